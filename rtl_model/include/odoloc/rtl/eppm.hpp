@@ -358,7 +358,7 @@ class PeriodMeter {
   struct Regs {
     Ticks count;         // ticks since the last edge, saturating
     Ticks last;          // ticks between the last two edges
-    UInt<1> valid;       // `last` spans two same-direction edges, the first not stalled
+    UInt<1> valid;       // `last` spans two same-direction edges, not stalled, not saturated
     UInt<1> armed;       // an edge has started the running measurement
     UInt<1> last_dir;    // direction of the last edge: 1 forward
     UInt<1> overflow;    // sticky: `count` saturated
@@ -391,7 +391,8 @@ class PeriodMeter {
       return n;
     }
     const UInt<1> dir = UInt<1>::truncate(in.step.value() > 0);
-    n.valid = UInt<1>::truncate(r_.armed && dir == r_.last_dir && !stalled(in.stall_ticks));
+    n.valid = UInt<1>::truncate(r_.armed && dir == r_.last_dir && !stalled(in.stall_ticks) &&
+                                r_.count.value() != Ticks::max_value);
     n.last = r_.count;
     n.armed = UInt<1>{1};
     n.last_dir = dir;

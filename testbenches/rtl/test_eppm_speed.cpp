@@ -1,0 +1,259 @@
+// EPPM speed meter: accuracy of both modes over the whole speed range against
+// the paper's quantisation bounds, the automatic switch, hysteresis, signs,
+// reversals, stall and overflow.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "eppm_bench.hpp"
+#include "odoloc/sw/eppm_units.hpp"
+
+namespace {
+
+using odoloc::rtl::SpeedMode;
+using odoloc::rtl::SpeedModeSelect;
+using odoloc::rtl::UInt;
+using odoloc::sim::QuadratureSource;
+using odoloc::sw::SpeedTiming;
+using odoloc::tb::EppmBench;
+
+constexpr double kClockHz = odoloc::sw::kFabricClockHz;
+
+double window_of(const EppmBench& tb) { return static_cast<double>(tb.cfg.window_clocks.value()); }
+double speed_of(const EppmBench& tb) {
+  return static_cast<double>(tb.dut.speed(tb.cfg).value.value());
+}
+
+void select(EppmBench& tb, SpeedModeSelect mode) {
+  tb.cfg.speed_mode_select = UInt<2>{static_cast<unsigned>(mode)};
+}
+
+// Edge rates from 200 edges/s to 5 M edges/s, log spaced.
+std::vector<double> speed_sweep(double from, double to, int points) {
+  std::vector<double> rates;
+  for (int i = 0; i < points; ++i) {
+    rates.push_back(from * std::pow(to / from, static_cast<double>(i) / (points - 1)));
+  }
+  return rates;
+}
+
+TEST(EppmSpeed, PulseModeIsWithinOneEdgePerWindowOverTheRange) {
+  for (const double edges_per_s : speed_sweep(2e3, 5e6, 25)) {
+    SCOPED_TRACE(edges_per_s);
+    EppmBench tb;
+    select(tb, SpeedModeSelect::kPulse);
+    QuadratureSource source{edges_per_s / kClockHz};
+    const double window = window_of(tb);
+    const double truth = source.rate() * window;  // edges per window
+    int samples = 0;
+    for (int w = 0; w < 4 * static_cast<int>(window); ++w) {
+      tb.run(source, 1);
+      if (!tb.dut.pulse().sampled || static_cast<double>(tb.steps) <= window) continue;  // start-up
+      ++samples;
+      const auto speed = tb.dut.speed(tb.cfg);
+      ASSERT_EQ(speed.mode.value(), static_cast<unsigned>(SpeedMode::kPulse));
+      EXPECT_LE(std::abs(static_cast<double>(speed.value.value()) - truth), 1.0);
+    }
+    EXPECT_EQ(samples, 3);
+  }
+}
+
+TEST(EppmSpeed, PeriodModeIsWithinOneTickPerEdgeOverTheRange) {
+  for (const std::uint32_t prescale : {0U, 49U}) {
+    for (const double edges_per_s : speed_sweep(500, 1e6, 20)) {
+      SCOPED_TRACE(testing::Message() << edges_per_s << " edges/s, prescale " << prescale);
+      EppmBench tb;
+      select(tb, SpeedModeSelect::kPeriod);
+      tb.cfg.prescale = UInt<16>{prescale};
+      tb.cfg.stall_ticks = UInt<23>{0};
+      QuadratureSource source{edges_per_s / kClockHz};
+      const double ticks_per_clock = 1.0 / (prescale + 1.0);
+      const double truth = ticks_per_clock / source.rate();  // ticks per edge
+      const double bound = 1.0 + ticks_per_clock;           // docs/eppm.md
+      int samples = 0;
+      while (samples < 6) {
+        tb.run(source, 1);
+        if (!tb.dut.period().sampled) continue;
+        const auto speed = tb.dut.speed(tb.cfg);
+        if (!speed.valid) continue;  // the first edge only starts a measurement
+        ++samples;
+        EXPECT_LE(std::abs(static_cast<double>(speed.value.value()) - truth), bound);
+        // The paper's relative error f_edge / f_ref, up to the same factor.
+        const SpeedTiming timing{50'000, prescale};
+        EXPECT_LE(std::abs(speed_of(tb) - truth) / truth,
+                  bound * timing.period_relative_error(edges_per_s) * (1 + 1e-9));
+      }
+    }
+  }
+}
+
+TEST(EppmSpeed, AutomaticSwitchChoosesTheMoreAccurateMode) {
+  const SpeedTiming timing;
+  const auto thresholds = odoloc::sw::switch_thresholds(timing);
+  for (const double edges_per_s : speed_sweep(2e3, 2e6, 31)) {
+    const double per_window = edges_per_s * timing.window_s();
+    const double pulse_error = timing.pulse_relative_error(edges_per_s);
+    const double period_error = timing.period_relative_error(edges_per_s);
+    // Inside the hysteresis band either mode is acceptable.
+    if (per_window >= thresholds.to_period_below - 1 && per_window <= thresholds.to_pulse_at + 1) {
+      continue;
+    }
+    SCOPED_TRACE(testing::Message() << edges_per_s << " edges/s, " << per_window << " per window");
+    for (const SpeedMode start : {SpeedMode::kPeriod, SpeedMode::kPulse}) {
+      EppmBench tb;
+      tb.cfg.to_period_below = UInt<23>{thresholds.to_period_below};
+      tb.cfg.to_pulse_at = UInt<23>{thresholds.to_pulse_at};
+      select(tb, start == SpeedMode::kPulse ? SpeedModeSelect::kPulse : SpeedModeSelect::kPeriod);
+      QuadratureSource source{edges_per_s / kClockHz};
+      tb.run(source, timing.window_clocks);
+      select(tb, SpeedModeSelect::kAuto);
+      tb.run(source, 3 * timing.window_clocks);
+      const auto speed = tb.dut.speed(tb.cfg);
+      const auto expected = pulse_error < period_error ? SpeedMode::kPulse : SpeedMode::kPeriod;
+      EXPECT_EQ(speed.mode.value(), static_cast<unsigned>(expected));
+      // The chosen reading is within its own bound, which beats the other's.
+      const bool pulse = speed.mode.value() == static_cast<unsigned>(SpeedMode::kPulse);
+      const double truth = pulse ? source.rate() * timing.window_clocks
+                                 : 1.0 / (source.rate() * (timing.prescale + 1.0));
+      const double error = std::abs(speed_of(tb) - truth) / truth;
+      EXPECT_LE(error, 2.0 * std::min(pulse_error, period_error));
+    }
+  }
+}
+
+// A speed whose window count alternates between to_pulse_at - 1 and
+// to_pulse_at: with a band the mode settles, without one it chatters.
+int mode_changes(std::uint32_t to_period_below, std::uint32_t to_pulse_at) {
+  EppmBench tb;
+  tb.cfg.to_period_below = UInt<23>{to_period_below};
+  tb.cfg.to_pulse_at = UInt<23>{to_pulse_at};
+  const double window = window_of(tb);
+  QuadratureSource source{(to_pulse_at - 0.5) / window};
+  int changes = 0;
+  auto mode = tb.dut.pulse().mode;
+  for (int i = 0; i < 60; ++i) {
+    tb.run(source, tb.cfg.window_clocks.value());
+    changes += tb.dut.pulse().mode != mode;
+    mode = tb.dut.pulse().mode;
+  }
+  return changes;
+}
+
+TEST(EppmSpeed, HysteresisPreventsChatterAtTheThreshold) {
+  EXPECT_LE(mode_changes(25, 40), 1);
+  EXPECT_GT(mode_changes(40, 40), 10);  // the same stimulus chatters with no band
+}
+
+TEST(EppmSpeed, ForcedModeTakesEffectAtTheWindowEnd) {
+  EppmBench tb;
+  tb.clock(100);
+  select(tb, SpeedModeSelect::kPulse);
+  tb.clock(tb.cfg.window_clocks.value() - 101);
+  EXPECT_EQ(tb.dut.pulse().mode.value(), static_cast<unsigned>(SpeedMode::kPeriod));
+  tb.clock();
+  EXPECT_EQ(tb.dut.pulse().mode.value(), static_cast<unsigned>(SpeedMode::kPulse));
+}
+
+TEST(EppmSpeed, BackwardSpeedsAreNegativeInBothModes) {
+  for (const auto mode : {SpeedModeSelect::kPulse, SpeedModeSelect::kPeriod}) {
+    EppmBench tb;
+    select(tb, mode);
+    QuadratureSource source{-0.001};
+    tb.run(source, 3 * tb.cfg.window_clocks.value());
+    const auto speed = tb.dut.speed(tb.cfg);
+    EXPECT_TRUE(speed.valid);
+    EXPECT_LT(speed.value.value(), 0);
+    const double truth = mode == SpeedModeSelect::kPulse ? -0.001 * window_of(tb) : -1.0 / (0.001 * 50);
+    EXPECT_LE(std::abs(speed_of(tb) - truth), 1.02);
+  }
+}
+
+TEST(EppmSpeed, ReversalInsideAPeriodMarksTheSampleInvalid) {
+  EppmBench tb;
+  select(tb, SpeedModeSelect::kPeriod);
+  QuadratureSource source{0.0005};
+  tb.run(source, 20'000);  // ~10 edges
+  ASSERT_TRUE(tb.dut.speed(tb.cfg).valid);
+  source.set_rate(-0.0005);
+  while (!tb.dut.period().sampled) tb.run(source, 1);  // the first edge after the reversal
+  EXPECT_FALSE(tb.dut.speed(tb.cfg).valid);
+  EXPECT_EQ(tb.dut.speed(tb.cfg).value.value(), 0);
+  tb.run(source, 1);
+  while (!tb.dut.period().sampled) tb.run(source, 1);
+  EXPECT_TRUE(tb.dut.speed(tb.cfg).valid);
+  EXPECT_LT(tb.dut.speed(tb.cfg).value.value(), 0);
+}
+
+TEST(EppmSpeed, StallReadsZeroAfterExactlyStallTicks) {
+  EppmBench tb;
+  tb.cfg.stall_ticks = UInt<23>{1000};
+  select(tb, SpeedModeSelect::kPeriod);
+  QuadratureSource source{0.01};
+  tb.run(source, 10'000);
+  source.set_rate(0.0);
+  // Wait for the last edge to reach the meter, then count ticks.
+  std::uint64_t since_edge = 0;
+  while (since_edge < 2 * tb.latency() + 100) {
+    tb.run(source, 1);
+    since_edge = tb.dut.period().sampled ? 0 : since_edge + 1;
+  }
+  ASSERT_FALSE(tb.dut.speed(tb.cfg).stalled);
+  while (tb.dut.period().count.value() < 999) tb.clock();
+  EXPECT_FALSE(tb.dut.speed(tb.cfg).stalled);
+  tb.clock(tb.cfg.prescale.value() + 1);
+  const auto speed = tb.dut.speed(tb.cfg);
+  EXPECT_TRUE(speed.stalled);
+  EXPECT_TRUE(speed.valid);
+  EXPECT_EQ(speed.value.value(), 0);
+  // The first edge after a stall only starts a new measurement.
+  source.set_rate(0.01);
+  while (!tb.dut.period().sampled) tb.run(source, 1);
+  EXPECT_FALSE(tb.dut.speed(tb.cfg).valid);
+  EXPECT_FALSE(tb.dut.speed(tb.cfg).stalled);
+}
+
+TEST(EppmSpeed, PeriodCounterSaturatesAndFlagsOverflow) {
+  EppmBench tb;
+  tb.cfg.prescale = UInt<16>{0};  // a tick every clock
+  tb.cfg.stall_ticks = UInt<23>{0};
+  select(tb, SpeedModeSelect::kPeriod);
+  tb.set_pins(0b10);  // one edge arms the measurement
+  tb.clock(tb.latency());
+  ASSERT_TRUE(tb.dut.period().armed);
+  constexpr std::uint64_t kMax = (1U << 23) - 1;
+  tb.clock(kMax - 1);
+  EXPECT_EQ(tb.dut.period().count.value(), kMax);
+  EXPECT_FALSE(tb.dut.period().overflow);
+  tb.clock(5);
+  EXPECT_EQ(tb.dut.period().count.value(), kMax);
+  EXPECT_TRUE(tb.dut.period().overflow);
+  // The next edge reads the saturated count: a bound, not a measurement.
+  tb.set_pins(0b11);
+  tb.clock(tb.latency());
+  EXPECT_EQ(tb.dut.period().last.value(), kMax);
+  EXPECT_FALSE(tb.dut.speed(tb.cfg).valid);
+  EXPECT_TRUE(tb.dut.period().overflow);
+  tb.clear_flags();
+  EXPECT_FALSE(tb.dut.period().overflow);
+}
+
+TEST(EppmUnits, SpeedWordConvertsToMetresPerSecond) {
+  const odoloc::sw::EncoderGeometry geometry{0.1, 500, 30, 4};
+  const SpeedTiming timing;
+  // 1 m/s = 1 / (2 pi 0.1 / 60000) edges/s = 95 493 edges/s.
+  const double edges_per_s = 1.0 / geometry.metres_per_edge();
+  EXPECT_NEAR(edges_per_s, 60000.0 / (2 * M_PI * 0.1), 1e-9);
+  EXPECT_NEAR(odoloc::sw::speed_mps(static_cast<std::int32_t>(std::lround(edges_per_s * 1e-3)),
+                                    true, geometry, timing),
+              1.0, 1.0 / 95.0);
+  EXPECT_NEAR(odoloc::sw::speed_mps(-static_cast<std::int32_t>(std::lround(1e6 / edges_per_s)),
+                                    false, geometry, timing),
+              -1.0, 0.1);
+  EXPECT_EQ(odoloc::sw::speed_mps(0, false, geometry, timing), 0.0);
+  const auto t = odoloc::sw::switch_thresholds(timing);
+  EXPECT_EQ(t.to_period_below, 25U);
+  EXPECT_EQ(t.to_pulse_at, 40U);
+}
+
+}  // namespace
