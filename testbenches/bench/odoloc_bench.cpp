@@ -22,7 +22,8 @@ double edges_per_clock(std::size_t wheel) {
 }
 
 // Four encoders at four speeds; the steering encoder reverses every 1.3 ms.
-void BM_FourEppm_CycleStep(benchmark::State& state) {
+template <odoloc::rtl::Gating G>
+void step_four_eppms(benchmark::State& state) {
   EncoderFabric fabric;
   EncoderFabric::Configs cfg{};
   EncoderFabric::Inputs in{};
@@ -41,7 +42,7 @@ void BM_FourEppm_CycleStep(benchmark::State& state) {
         in[w].a = ab.bit<1>();
         in[w].b = ab.bit<0>();
       }
-      fabric.step(in, cfg);
+      fabric.step<G>(in, cfg);
       ++clocks;
     }
     benchmark::DoNotOptimize(fabric);
@@ -50,7 +51,16 @@ void BM_FourEppm_CycleStep(benchmark::State& state) {
   state.counters["left_rear_count"] =
       static_cast<double>(fabric.eppm(odoloc::rtl::Wheel::kLeftRear).count().value());
 }
+void BM_FourEppm_CycleStep(benchmark::State& state) {
+  step_four_eppms<odoloc::rtl::Gating::kOn>(state);
+}
 BENCHMARK(BM_FourEppm_CycleStep);
+
+// Every block evaluated every clock: the cost when all pins toggle at once.
+void BM_FourEppm_CycleStep_Ungated(benchmark::State& state) {
+  step_four_eppms<odoloc::rtl::Gating::kOff>(state);
+}
+BENCHMARK(BM_FourEppm_CycleStep_Ungated);
 
 }  // namespace
 

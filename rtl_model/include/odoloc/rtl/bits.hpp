@@ -116,6 +116,12 @@ class UInt {
     return UInt<(W - N > 0 ? W - N : 1)>::truncate(N >= 64 ? 0 : std::uint64_t{bits_} >> N);
   }
 
+  // Shift right by a run-time amount (a barrel shifter): same width.
+  template <int K>
+  [[nodiscard]] constexpr UInt<W> dshr(UInt<K> amount) const {
+    return truncate(amount.value() >= 64 ? 0 : std::uint64_t{bits_} >> amount.value());
+  }
+
   constexpr UInt<W> operator~() const { return truncate(~std::uint64_t{bits_}); }
 
  private:
@@ -190,6 +196,12 @@ class SInt {
   template <int N>
   [[nodiscard]] constexpr SInt<(W - N > 1 ? W - N : 2)> shr() const {
     return SInt<(W - N > 1 ? W - N : 2)>::truncate(std::int64_t{value_} >> (N >= 64 ? 63 : N));
+  }
+
+  // Arithmetic shift right by a run-time amount (a barrel shifter): same width.
+  template <int K>
+  [[nodiscard]] constexpr SInt<W> dshr(UInt<K> amount) const {
+    return truncate(std::int64_t{value_} >> (amount.value() >= 63 ? 63 : amount.value()));
   }
 
   constexpr SInt<W + 1> operator-() const { return SInt<W + 1>::truncate(-std::int64_t{value_}); }

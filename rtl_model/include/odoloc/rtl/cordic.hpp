@@ -1,0 +1,85 @@
+// Sequential rotation-mode CORDIC: one micro-rotation per clock, 16 clocks.
+//
+//   clock k      LOAD=1, not busy: quadrant pre-rotation into x, y, z; BUSY=1,
+//                RESULT_READY=0
+//   k+1 .. k+16  one micro-rotation each; the last also rounds into SIN/COS
+//   after k+16   RESULT_READY=1, BUSY=0 (kLatencyClocks = 16 edges after LOAD)
+//
+// A LOAD while busy is ignored and sets the sticky LOAD_IGNORED flag; the
+// running computation completes undisturbed. RESULT_READY stays high until
+// the next accepted LOAD. Arithmetic: cordic_core.hpp; formats: docs/cordic.md.
+#pragma once
+
+#include "odoloc/rtl/bits.hpp"
+#include "odoloc/rtl/clocked.hpp"
+#include "odoloc/rtl/cordic_core.hpp"
+
+namespace odoloc::rtl {
+
+class SequentialCordic {
+ public:
+  static constexpr unsigned kLatencyClocks = cordic::kIterations;
+  struct Regs {
+    cordic::State state;
+    UInt<4> iteration;     // index of the next micro-rotation
+    UInt<1> busy;
+    UInt<1> ready;         // RESULT_READY
+    UInt<1> load_ignored;  // sticky: LOAD arrived while busy
+    cordic::SinCos result;
+    bool operator==(const Regs&) const = default;
+  };
+  using Next = Regs;
+  struct In {
+    UInt<1> load;
+    cordic::Angle angle;
+    UInt<1> clear_flags;
+    UInt<1> reset;
+  };
+
+  [[nodiscard]] Next eval(const In& in) const {
+    if (in.reset) return Regs{};
+    Regs n = r_;
+    if (in.clear_flags) n.load_ignored = UInt<1>{};
+    if (r_.busy) {
+      if (in.load) n.load_ignored = UInt<1>{1};
+      n.state = cordic::iterate(r_.state, r_.iteration);
+      n.iteration = (r_.iteration + UInt<1>{1}).wrap<4>();
+      if (r_.iteration.value() == cordic::kIterations - 1) {
+        n.busy = UInt<1>{};
+        n.ready = UInt<1>{1};
+        n.result = cordic::finish(n.state);
+      }
+    } else if (in.load) {
+      n.state = cordic::load(in.angle);
+      n.iteration = UInt<4>{};
+      n.busy = UInt<1>{1};
+      n.ready = UInt<1>{};
+    }
+    return n;
+  }
+  [[nodiscard]] bool idle(const In& in) const {
+    return (r_.busy | in.load | in.clear_flags | in.reset).is_zero();
+  }
+  void commit(const Next& n) { r_ = n; }
+  void reset_now() { r_ = Regs{}; }
+  [[nodiscard]] const Regs& regs() const { return r_; }
+
+  template <class V>
+  void trace(V& v) const {
+    v.signal("x", r_.state.x);
+    v.signal("y", r_.state.y);
+    v.signal("z", r_.state.z);
+    v.signal("quadrant", r_.state.quadrant);
+    v.signal("iteration", r_.iteration);
+    v.signal("busy", r_.busy);
+    v.signal("result_ready", r_.ready);
+    v.signal("load_ignored", r_.load_ignored);
+    v.signal("sin", r_.result.sin);
+    v.signal("cos", r_.result.cos);
+  }
+
+ private:
+  Regs r_;
+};
+
+}  // namespace odoloc::rtl
