@@ -294,6 +294,22 @@ constexpr T mux(UInt<1> select, T when_one, T when_zero) {
   return select ? when_one : when_zero;
 }
 
+// Modular addition at the wider operand's width: for accumulators that are
+// meant to wrap (binary angles, 64-bit sums), where a + b would not fit.
+template <int A, int B>
+constexpr SInt<detail::max_width(A, B)> add_wrap(SInt<A> a, SInt<B> b) {
+  return SInt<detail::max_width(A, B)>::truncate(static_cast<std::int64_t>(
+      static_cast<std::uint64_t>(a.value()) + static_cast<std::uint64_t>(b.value())));
+}
+
+// Round-half-up shift right by N: (v + 2^(N-1)) >> N, the fixed-point
+// "round to nearest" of the datapaths.
+template <int N, int W>
+constexpr SInt<W + 1 - N> round_shr(SInt<W> v) {
+  static_assert(N >= 1 && N < W);
+  return (v + SInt<N + 1>::truncate(std::int64_t{1} << (N - 1))).template shr<N>();
+}
+
 // A literal of just enough width: 5_u is UInt<3>, 0_u is UInt<1>.
 namespace literals {
 template <char... Digits>

@@ -134,9 +134,8 @@ constexpr State iterate(const State& s, UInt<4> k) {
 
 // Round to nearest (half up) into 14 fractional bits, then undo the pre-rotation.
 constexpr SinCos finish(const State& s) {
-  constexpr Xy kHalf = Xy::truncate(1LL << (kGuardBits - 1));
-  const Output c = (s.x + kHalf).shr<kGuardBits>().wrap<Output::width>();
-  const Output v = (s.y + kHalf).shr<kGuardBits>().wrap<Output::width>();
+  const Output c = round_shr<kGuardBits>(s.x).wrap<Output::width>();
+  const Output v = round_shr<kGuardBits>(s.y).wrap<Output::width>();
   switch (s.quadrant.value()) {
     case 1:
       return {c, (-v).wrap<Output::width>()};

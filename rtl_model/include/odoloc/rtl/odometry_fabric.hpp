@@ -1,0 +1,112 @@
+// The odometry fabric: four EPPMs, one shared sequential CORDIC, the rear and
+// front computation units, min-select and the pose integrator on one clock.
+#pragma once
+
+#include <array>
+
+#include "odoloc/rtl/cordic.hpp"
+#include "odoloc/rtl/encoder_fabric.hpp"
+#include "odoloc/rtl/odometry.hpp"
+
+namespace odoloc::rtl {
+
+struct OdometryFabricConfig {
+  EncoderFabric::Configs eppm{};
+  OdometryConfig odometry{};
+};
+
+class OdometryFabric {
+ public:
+  struct Inputs {
+    std::array<UInt<2>, kWheelCount> pins{};  // A/B per encoder, A in bit 1
+    UInt<1> set_pose;                         // load `pose` into the integrator
+    PoseIntegrator::Regs pose;
+    UInt<1> clear_flags;
+    UInt<1> reset;
+  };
+
+  template <Gating G = Gating::kOn>
+  [[gnu::flatten]] void step(const Inputs& in, const OdometryFabricConfig& cfg) {
+    const OdometryConfig& oc = cfg.odometry;
+    // Wires from the current registers.
+    const UInt<1> latch = bit(sequencer_.in(OdometryPhase::kLatch));
+    const UInt<1> gather = bit(sequencer_.in(OdometryPhase::kGather));
+    const UInt<1> phi_load = bit(sequencer_.in(OdometryPhase::kPhiLoad));
+    const UInt<1> theta_load = bit(sequencer_.in(OdometryPhase::kThetaLoad));
+    const auto latched = [&](Wheel w) { return encoders_.eppm(w).counter().latched; };
+    const cordic::SinCos sincos = cordic_.regs().result;
+    const cordic::Angle cordic_angle =
+        phi_load ? front_.cordic_angle() : integrator_.cordic_angle(select_.regs().dtheta);
+
+    EncoderFabric::Inputs eppm_in{};
+    for (std::size_t w = 0; w < kWheelCount; ++w) {
+      eppm_in[w] = {in.pins[w].bit<1>(), in.pins[w].bit<0>(), latch, in.clear_flags, in.reset};
+    }
+    encoders_.step<G>(eppm_in, cfg.eppm);
+    clock_block<G>(sequencer_, {oc.update_clocks, cordic_.regs().ready, in.clear_flags, in.reset});
+    clock_block<G>(cordic_, {phi_load | theta_load, cordic_angle, in.clear_flags, in.reset});
+    clock_block<G>(rear_, {gather, latched(Wheel::kLeftRear), latched(Wheel::kRightRear),
+                           oc.rear_ds_scale, oc.rear_dtheta_scale, in.reset});
+    clock_block<G>(front_, {gather, bit(sequencer_.in(OdometryPhase::kFront)),
+                            latched(Wheel::kFrontDrive), latched(Wheel::kSteering), sincos,
+                            oc.front_ds_scale, oc.front_dtheta_scale, oc.steer_scale,
+                            oc.steer_limit, in.clear_flags, in.reset});
+    clock_block<G>(select_, {bit(sequencer_.in(OdometryPhase::kSelect)), rear_.regs(),
+                             front_.regs().ds, front_.regs().dtheta, oc.policy, oc.select_shift,
+                             oc.select_ds_threshold, oc.select_dtheta_threshold, in.reset});
+    clock_block<G>(integrator_, {bit(sequencer_.in(OdometryPhase::kIntegrate)), select_.regs().ds,
+                                 select_.regs().dtheta, sincos, in.set_pose, in.pose,
+                                 in.reset});
+  }
+
+  void reset_now() {
+    encoders_.reset_now();
+    sequencer_.reset_now();
+    cordic_.reset_now();
+    rear_.reset_now();
+    front_.reset_now();
+    select_.reset_now();
+    integrator_.reset_now();
+  }
+
+  [[nodiscard]] const EncoderFabric& encoders() const { return encoders_; }
+  [[nodiscard]] const OdometrySequencer::Regs& sequencer() const { return sequencer_.regs(); }
+  [[nodiscard]] OdometryPhase phase() const { return sequencer_.phase(); }
+  [[nodiscard]] const SequentialCordic::Regs& cordic() const { return cordic_.regs(); }
+  [[nodiscard]] const RearOdometryUnit::Regs& rear() const { return rear_.regs(); }
+  [[nodiscard]] const FrontOdometryUnit::Regs& front() const { return front_.regs(); }
+  [[nodiscard]] const MinSelect::Regs& select() const { return select_.regs(); }
+  [[nodiscard]] const PoseIntegrator::Regs& pose() const { return integrator_.regs(); }
+
+  template <class V>
+  void trace(V& v) const {
+    v.enter("encoders");
+    encoders_.trace(v);
+    v.leave();
+    trace_child(v, "sequencer", sequencer_);
+    trace_child(v, "cordic", cordic_);
+    trace_child(v, "rear", rear_);
+    trace_child(v, "front", front_);
+    trace_child(v, "select", select_);
+    trace_child(v, "pose", integrator_);
+  }
+
+ private:
+  static UInt<1> bit(bool b) { return UInt<1>::truncate(b); }
+  template <class V, class Child>
+  static void trace_child(V& v, std::string_view name, const Child& child) {
+    v.enter(name);
+    child.trace(v);
+    v.leave();
+  }
+
+  EncoderFabric encoders_;
+  OdometrySequencer sequencer_;
+  SequentialCordic cordic_;
+  RearOdometryUnit rear_;
+  FrontOdometryUnit front_;
+  MinSelect select_;
+  PoseIntegrator integrator_;
+};
+
+}  // namespace odoloc::rtl

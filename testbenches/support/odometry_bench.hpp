@@ -1,0 +1,112 @@
+// The odometry fabric configured from a vehicle geometry, driven by ideal
+// quadrature sources: the harness of the odometry testbenches.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+
+#include "odoloc/rtl/odometry_fabric.hpp"
+#include "odoloc/sim/quadrature_source.hpp"
+#include "odoloc/sw/odometry_setup.hpp"
+
+namespace odoloc::tb {
+
+// The vehicle's scales; min-select tuned by sw::min_select_setup unless
+// `paper_min_select` asks for the paper's memoryless rule.
+inline rtl::OdometryConfig odometry_config(const sw::VehicleGeometry& geometry,
+                                           rtl::MinSelectPolicy policy,
+                                           bool paper_min_select = false) {
+  const sw::OdometryScales s = sw::odometry_scales(geometry);
+  const sw::MinSelectSetup m = paper_min_select ? sw::MinSelectSetup{0, 0, 0}
+                                                : sw::min_select_setup(geometry);
+  rtl::OdometryConfig c;
+  c.rear_ds_scale = rtl::UInt<32>{s.rear_ds};
+  c.rear_dtheta_scale = rtl::UInt<32>{s.rear_dtheta};
+  c.front_ds_scale = rtl::UInt<32>{s.front_ds};
+  c.front_dtheta_scale = rtl::UInt<32>{s.front_dtheta};
+  c.steer_scale = rtl::UInt<32>{s.steer};
+  c.steer_limit = rtl::UInt<32>{s.steer_limit};
+  c.policy = rtl::UInt<2>{static_cast<unsigned>(policy)};
+  c.select_shift = rtl::UInt<4>{m.shift};
+  c.select_ds_threshold = rtl::UInt<32>{m.ds_threshold};
+  c.select_dtheta_threshold = rtl::UInt<32>{m.dtheta_threshold};
+  return c;
+}
+
+struct SiPose {
+  double x, y, theta;
+};
+
+inline SiPose si_pose(const rtl::PoseIntegrator::Regs& p) {
+  return {sw::pose_metres(p.x.value()), sw::pose_metres(p.y.value()),
+          sw::heading_radians(p.theta.value())};
+}
+
+inline double angle_difference(double a, double b) { return std::remainder(a - b, 2 * M_PI); }
+
+struct OdometryBench {
+  sw::VehicleGeometry geometry;
+  rtl::OdometryFabric fabric;
+  rtl::OdometryFabricConfig cfg;
+  rtl::OdometryFabric::Inputs in;
+  std::array<sim::QuadratureSource, rtl::kWheelCount> sources{};
+  std::uint64_t clocks = 0;
+  std::uint64_t latch_clock = 0;  // the clock whose edge latched the counts of the last update
+
+  explicit OdometryBench(rtl::MinSelectPolicy policy = rtl::MinSelectPolicy::kPerComponent,
+                         bool paper_min_select = false) {
+    cfg.odometry = odometry_config(geometry, policy, paper_min_select);
+  }
+
+  void set_pose(const SiPose& p) {
+    in.set_pose = rtl::UInt<1>{1};
+    in.pose = {rtl::SInt<64>{sw::metres_to_pose(p.x)}, rtl::SInt<64>{sw::metres_to_pose(p.y)},
+               rtl::UInt<40>{sw::radians_to_heading(p.theta)}};
+    step();
+    in.set_pose = rtl::UInt<1>{};
+  }
+  void step() {
+    if (fabric.phase() == rtl::OdometryPhase::kLatch) latch_clock = clocks;
+    for (std::size_t w = 0; w < rtl::kWheelCount; ++w) in.pins[w] = sources[w].tick();
+    fabric.step(in, cfg);
+    ++clocks;
+  }
+  void run(std::uint64_t n) {
+    for (std::uint64_t i = 0; i < n; ++i) step();
+  }
+  // Runs until the sequencer latches, then through the update it starts.
+  void run_to_next_update() {
+    while (fabric.phase() != rtl::OdometryPhase::kLatch) step();
+    const auto updates = fabric.sequencer().updates;
+    while (fabric.sequencer().updates == updates) step();
+  }
+
+  // Turns the steering (vehicle standing) to the nearest whole steering edge
+  // of `phi`; returns the exact angle reached.
+  double steer_to(double phi) {
+    const double turns_per_edge = geometry.steering.turns_per_edge();
+    const auto target = static_cast<std::int64_t>(std::lround(phi / (2 * M_PI) / turns_per_edge));
+    auto& s = sources[static_cast<std::size_t>(rtl::Wheel::kSteering)];
+    while (s.edges() != target) {
+      s.set_rate(s.edges() < target ? 0.05 : -0.05);
+      step();
+    }
+    s.set_rate(0.0);
+    run(100);
+    return static_cast<double>(target) * turns_per_edge * 2 * M_PI;
+  }
+
+  // Wheel rates for a rear-midpoint speed v at steering angle phi.
+  void drive(double v, double phi) {
+    const double curvature = std::tan(phi) / geometry.wheelbase_m;
+    const double half_track = geometry.rear_track_m / 2;
+    const double per_clock = 1.0 / sw::kFabricClockHz;
+    const double rear = geometry.rear.metres_per_edge();
+    sources[0].set_rate(v * (1 - half_track * curvature) / rear * per_clock);
+    sources[1].set_rate(v * (1 + half_track * curvature) / rear * per_clock);
+    sources[2].set_rate(v / std::cos(phi) / geometry.front.metres_per_edge() * per_clock);
+  }
+};
+
+}  // namespace odoloc::tb
