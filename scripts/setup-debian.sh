@@ -6,7 +6,8 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build git
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev
-  gtkwave  # vcd2fst: the waveform test cross-checks our VCD with GTKWave's own reader
+  gtkwave      # vcd2fst: the waveform test cross-checks our VCD with GTKWave's own reader
+  gnuplot-nox  # the demo's trajectory plot
 )
 
 missing=()

@@ -1,161 +1,147 @@
-// odoloc_demo: the encoder fabric (four EPPMs) driven by a built-in drive
-// scenario. Prints, for each phase of the drive, what each EPPM reads against
-// the ground truth, and checks that the read-increment sums equal the true
-// edge counts. Optional VCD dump of the first clocks.
+// odoloc_demo, the main job: the ground-truth tricycle drives the built-in
+// 24 m square with bumps under both rear wheels, under one rear wheel, under
+// the front wheel and a front-wheel slip; its encoder waveforms drive the
+// cycle-accurate odometry fabric clock by clock, once per min-select policy.
+// Prints the final pose error of each, writes the trajectories as CSV and
+// plots them with gnuplot.
 #include <CLI/CLI.hpp>
 
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
-#include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
-#include "odoloc/rtl/encoder_fabric.hpp"
-#include "odoloc/rtl/vcd.hpp"
-#include "odoloc/sim/quadrature_source.hpp"
-#include "odoloc/sw/eppm_units.hpp"
+#include "odoloc/scenario/odometry_scenario.hpp"
 
 namespace {
 
-using odoloc::rtl::EncoderFabric;
-using odoloc::rtl::kWheelCount;
-using odoloc::rtl::kWheelNames;
-using odoloc::sim::QuadratureSource;
+using odoloc::rtl::MinSelectPolicy;
+using odoloc::scenario::RunOptions;
+using odoloc::scenario::RunResult;
 
-// Wheel surface speeds in m/s for each phase of the default drive.
-struct Phase {
-  const char* name;
-  double seconds;
-  std::array<double, kWheelCount> mps;  // left rear, right rear, front drive, steering
+struct Variant {
+  const char* label;
+  const char* column;
+  RunOptions options;
 };
-constexpr std::array<Phase, 4> kDefaultDrive = {{
-    {"creep", 0.06, {0.020, 0.020, 0.020, 0.000}},
-    {"cruise, left turn", 0.10, {0.900, 1.100, 1.050, 0.004}},
-    {"fast straight", 0.06, {2.000, 2.000, 2.000, -0.004}},
-    {"reverse", 0.08, {-0.300, -0.300, -0.300, 0.0}},
-}};
 
-constexpr std::uint32_t kLatchEveryClocks = 5'000;  // the 100 us control period
+constexpr std::uint64_t kRecordEveryClocks = 500'000;  // 10 ms
+
+void write_csv(const std::filesystem::path& file, const std::vector<Variant>& variants,
+               const std::vector<RunResult>& results) {
+  std::ofstream out(file);
+  out << "time_s,truth_x_m,truth_y_m,truth_theta_rad";
+  for (const Variant& v : variants) {
+    out << ',' << v.column << "_x_m," << v.column << "_y_m," << v.column << "_error_mm";
+  }
+  out << '\n';
+  const std::size_t rows = results.front().track.size();
+  for (std::size_t i = 0; i < rows; ++i) {
+    const auto& t = results.front().track[i];
+    out << t.time_s << ',' << t.truth.x_m << ',' << t.truth.y_m << ',' << t.truth.theta_rad;
+    for (const RunResult& r : results) {
+      const auto& p = r.track[i];
+      out << ',' << p.fabric.x_m << ',' << p.fabric.y_m << ','
+          << 1e3 * std::hypot(p.fabric.x_m - p.truth.x_m, p.fabric.y_m - p.truth.y_m);
+    }
+    out << '\n';
+  }
+}
+
+// Two panels: the trajectories, and each variant's position error over time.
+bool plot(const std::filesystem::path& dir, const std::vector<Variant>& variants) {
+  const auto script = dir / "trajectories.gp";
+  std::ofstream gp(script);
+  gp << "set terminal pngcairo size 1400,650 font ',10'\n"
+     << "set output '" << (dir / "trajectories.png").string() << "'\n"
+     << "set datafile separator ','\nset key autotitle columnhead\n"
+     << "set multiplot layout 1,2 title 'odoloc: 6 m square (rounded corners) with bumps and slip'\n"
+     << "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'\nset grid\n"
+     << "plot 'trajectories.csv' using 2:3 with lines lt 1 lw 4 title 'ground truth'";
+  for (std::size_t i = 0; i < variants.size(); ++i) {
+    gp << ", '' using " << 5 + 3 * i << ':' << 6 + 3 * i << " with lines lt " << i + 2
+       << " title '" << variants[i].label << "'";
+  }
+  gp << "\nset size noratio\nset xlabel 'time [s]'\nset ylabel 'position error [mm]'\n"
+     << "set logscale y\nplot ";
+  for (std::size_t i = 0; i < variants.size(); ++i) {
+    gp << (i ? ", " : "") << "'trajectories.csv' using 1:(column(" << 7 + 3 * i
+       << ")+1e-3) with lines lt " << i + 2 << " title '" << variants[i].label << "'";
+  }
+  gp << "\nunset multiplot\n";
+  gp.close();
+  const std::string command = "cd '" + dir.string() + "' && gnuplot trajectories.gp 2>/dev/null";
+  return std::system(command.c_str()) == 0;
+}
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"odoloc encoder-fabric demo: four EPPMs on a built-in drive"};
-  std::string vcd_path;
-  std::uint64_t vcd_clocks = 20'000;
-  app.add_option("--vcd", vcd_path, "write a VCD waveform of the first clocks to this file");
-  app.add_option("--vcd-clocks", vcd_clocks, "clocks to dump with --vcd")->check(CLI::PositiveNumber);
+  CLI::App app{"odoloc odometry demo: ground-truth tricycle -> cycle-accurate odometry fabric"};
+  std::string out_dir = "odoloc-demo";
+  bool paper = false;
+  app.add_option("--out", out_dir, "directory for trajectories.csv and trajectories.png");
+  app.add_flag("--paper", paper, "also run the paper's memoryless min-select");
   CLI11_PARSE(app, argc, argv);
 
-  const odoloc::sw::EncoderGeometry geometry;
-  const odoloc::sw::SpeedTiming timing;
-  const auto thresholds = odoloc::sw::switch_thresholds(timing);
-  EncoderFabric::Configs cfg{};
-  for (auto& c : cfg) {
-    c.window_clocks = odoloc::rtl::UInt<23>{timing.window_clocks};
-    c.prescale = odoloc::rtl::UInt<16>{timing.prescale};
-    c.to_period_below = odoloc::rtl::UInt<23>{thresholds.to_period_below};
-    c.to_pulse_at = odoloc::rtl::UInt<23>{thresholds.to_pulse_at};
+  const odoloc::scenario::Scenario scenario = odoloc::scenario::default_square();
+  std::vector<Variant> variants = {
+      {"rear only", "rear", {MinSelectPolicy::kRearOnly, false, kRecordEveryClocks}},
+      {"front only", "front", {MinSelectPolicy::kFrontOnly, false, kRecordEveryClocks}},
+      {"min-select", "minsel", {MinSelectPolicy::kPerComponent, false, kRecordEveryClocks}},
+  };
+  if (paper) {
+    variants.push_back({"min-select (paper, memoryless)", "paper",
+                        {MinSelectPolicy::kPerComponent, true, kRecordEveryClocks}});
   }
 
-  EncoderFabric fabric;
-  EncoderFabric::Inputs in{};
-  std::array<QuadratureSource, kWheelCount> sources{};
-  std::array<std::int64_t, kWheelCount> increments_sum{};
-
-  std::ofstream vcd_file;
-  std::unique_ptr<odoloc::rtl::VcdWriter> vcd;
-  if (!vcd_path.empty()) {
-    vcd_file.open(vcd_path);
-    if (!vcd_file) {
-      std::fprintf(stderr, "odoloc_demo: cannot write %s\n", vcd_path.c_str());
-      return 1;
-    }
-    vcd = std::make_unique<odoloc::rtl::VcdWriter>(vcd_file, "encoder_fabric");
-    vcd->declare(fabric);
-  }
-
-  std::printf("odoloc encoder fabric demo: 4 EPPMs at %.0f MHz, window %.1f ms, reference %.2f MHz\n",
-              odoloc::rtl::kFabricClockHz / 1e6, timing.window_s() * 1e3,
-              timing.reference_hz() / 1e6);
-  std::printf("wheel: R = %.3f m, %g lines x4, gear %g:1 -> %.2f um per edge; switch period<%u, pulse>=%u edges/window\n\n",
-              geometry.wheel_radius_m, geometry.lines_per_rev, geometry.gear_ratio,
-              geometry.metres_per_edge() * 1e6, thresholds.to_period_below, thresholds.to_pulse_at);
-  std::printf("%-18s %-12s %10s %10s %6s %9s %9s\n", "phase", "wheel", "true m/s", "read m/s",
-              "mode", "error %", "bound %");
-
+  std::printf("odoloc odometry demo: %s\n", scenario.name.c_str());
+  std::printf("fabric: 4 EPPMs, sequential CORDIC, rear/front units, min-select; 50 MHz, "
+              "update every 100 us\n");
+  std::printf("running %zu cycle-accurate simulations on %u threads...\n", variants.size(),
+              std::max(1U, std::thread::hardware_concurrency()));
   const auto start = std::chrono::steady_clock::now();
-  std::uint64_t clock = 0;
-  for (const Phase& phase : kDefaultDrive) {
-    for (std::size_t w = 0; w < kWheelCount; ++w) {
-      sources[w].set_rate(phase.mps[w] / geometry.metres_per_edge() / odoloc::rtl::kFabricClockHz);
-    }
-    const auto phase_clocks = static_cast<std::uint64_t>(phase.seconds * odoloc::rtl::kFabricClockHz);
-    for (std::uint64_t i = 0; i < phase_clocks; ++i, ++clock) {
-      const bool latch = clock % kLatchEveryClocks == kLatchEveryClocks - 1;
-      for (std::size_t w = 0; w < kWheelCount; ++w) {
-        const auto ab = sources[w].tick();
-        in[w].a = ab.bit<1>();
-        in[w].b = ab.bit<0>();
-        in[w].latch_clear = odoloc::rtl::UInt<1>::truncate(latch);
-      }
-      fabric.step(in, cfg);
-      if (latch) {
-        for (std::size_t w = 0; w < kWheelCount; ++w) {
-          increments_sum[w] += fabric.eppm(static_cast<odoloc::rtl::Wheel>(w)).counter().latched.value();
-        }
-      }
-      if (vcd && clock < vcd_clocks) vcd->sample(fabric, clock);
-    }
-    for (std::size_t w = 0; w < kWheelCount; ++w) {
-      const auto s = fabric.eppm(static_cast<odoloc::rtl::Wheel>(w)).speed(cfg[w]);
-      const bool pulse = s.mode.value() == 1;
-      const double read = odoloc::sw::speed_mps(static_cast<std::int32_t>(s.value.value()), pulse,
-                                                geometry, timing);
-      const double truth = phase.mps[w];
-      const double edges_per_s = truth / geometry.metres_per_edge();
-      const double bound = pulse ? timing.pulse_relative_error(edges_per_s)
-                                 : timing.period_relative_error(edges_per_s);
-      const char* mode = s.stalled.value() ? "stall" : pulse ? "pulse" : "period";
-      const char* note = s.valid.value() ? "" : "  (invalid sample)";
-      if (truth == 0.0) {
-        std::printf("%-18s %-12s %10.4f %10.4f %6s %9s %9s%s\n", w == 0 ? phase.name : "",
-                    kWheelNames[w], truth, read, mode, "-", "-", note);
-      } else {
-        std::printf("%-18s %-12s %10.4f %10.4f %6s %9.3f %9.3f%s\n", w == 0 ? phase.name : "",
-                    kWheelNames[w], truth, read, mode, 100.0 * (read - truth) / truth,
-                    100.0 * bound, note);
-      }
+  std::vector<RunResult> results(variants.size());
+  {
+    std::vector<std::jthread> workers;
+    for (std::size_t i = 0; i < variants.size(); ++i) {
+      workers.emplace_back(
+          [&, i] { results[i] = odoloc::scenario::run(scenario, variants[i].options); });
     }
   }
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  std::printf("\n%-12s %14s %14s %14s\n", "wheel", "true edges", "sum of reads", "in counter");
-  int mismatches = 0;
-  for (std::size_t w = 0; w < kWheelCount; ++w) {
-    const auto& eppm = fabric.eppm(static_cast<odoloc::rtl::Wheel>(w));
-    const std::int64_t counted = increments_sum[w] + eppm.count().value();
-    // The pins reach the counter through a 2-flop synchroniser, the filter
-    // and the decoder: edges of the last few clocks are still in flight.
-    const std::int64_t in_flight = sources[w].edges() - counted;
-    if (std::llabs(in_flight) > 1) ++mismatches;
-    std::printf("%-12s %14lld %14lld %14lld\n", kWheelNames[w],
-                static_cast<long long>(sources[w].edges()), static_cast<long long>(increments_sum[w]),
-                static_cast<long long>(eppm.count().value()));
+  const auto& truth = results.front().truth;
+  std::printf("\npath %.2f m, ground truth end pose x %.4f m, y %.4f m, heading %.3f deg\n\n",
+              results.front().distance_m, truth.x_m, truth.y_m, truth.theta_rad * 180 / M_PI);
+  std::printf("%-32s %10s %10s %12s %14s %16s\n", "odometry", "x [m]", "y [m]",
+              "pos err [mm]", "head err [deg]", "ds from front");
+  for (std::size_t i = 0; i < variants.size(); ++i) {
+    const RunResult& r = results[i];
+    std::printf("%-32s %10.4f %10.4f %12.2f %14.4f %15.1f%%\n", variants[i].label, r.fabric.x_m,
+                r.fabric.y_m, 1e3 * r.position_error_m, r.heading_error_rad * 180 / M_PI,
+                100.0 * static_cast<double>(r.front_wins_ds) / static_cast<double>(r.updates));
   }
-  std::printf("\nsimulated %.3f s (%llu clocks) in %.3f s wall: %.1f M clocks/s (%.1fx real time)\n",
-              static_cast<double>(clock) / odoloc::rtl::kFabricClockHz,
-              static_cast<unsigned long long>(clock), wall_s, static_cast<double>(clock) / wall_s / 1e6,
-              static_cast<double>(clock) / odoloc::rtl::kFabricClockHz / wall_s);
-  if (vcd) std::printf("waveform: %s (first %llu clocks)\n", vcd_path.c_str(),
-                       static_cast<unsigned long long>(vcd_clocks));
-  if (mismatches != 0) {
-    std::printf("FAIL: %d wheel(s) lost or doubled edges\n", mismatches);
-    return 1;
+  std::uint64_t clocks = 0;
+  for (const RunResult& r : results) clocks += r.clocks;
+  std::printf("\nsimulated %zu x %.1f s (%.2f G clocks) in %.1f s wall (%.1f M clocks/s)\n",
+              results.size(), static_cast<double>(results.front().clocks) / 50e6,
+              static_cast<double>(clocks) / 1e9, wall_s, static_cast<double>(clocks) / wall_s / 1e6);
+
+  const std::filesystem::path dir(out_dir);
+  std::filesystem::create_directories(dir);
+  write_csv(dir / "trajectories.csv", variants, results);
+  std::printf("wrote %s\n", (dir / "trajectories.csv").string().c_str());
+  if (plot(dir, variants)) {
+    std::printf("wrote %s\n", (dir / "trajectories.png").string().c_str());
+  } else {
+    std::printf("gnuplot not found: plot with  cd %s && gnuplot trajectories.gp\n",
+                dir.string().c_str());
   }
-  std::printf("OK: every edge accounted for\n");
   return 0;
 }

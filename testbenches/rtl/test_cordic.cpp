@@ -77,9 +77,15 @@ void expect_degrees(double degrees) {
   EXPECT_LE(error_lsb(run.result.cos, std::cos(theta)), tolerance);
   EXPECT_EQ(run.clocks_to_ready * odoloc::rtl::kFabricClockPeriodNs, 320U);  // < 400 ns
 }
-TEST(Cordic, PaperCase30Degrees) { expect_degrees(30.0); }
-TEST(Cordic, PaperCase45Degrees) { expect_degrees(45.0); }
-TEST(Cordic, PaperCase60Degrees) { expect_degrees(60.0); }
+TEST(Cordic, PaperCase30Degrees) {
+  expect_degrees(30.0);
+}
+TEST(Cordic, PaperCase45Degrees) {
+  expect_degrees(45.0);
+}
+TEST(Cordic, PaperCase60Degrees) {
+  expect_degrees(60.0);
+}
 
 TEST(Cordic, ExactQuadrantAngles) {
   SequentialCordic unit;
@@ -95,7 +101,8 @@ TEST(Cordic, ExactQuadrantAngles) {
 TEST(Cordic, LoadWhileBusyIsIgnoredAndFlagged) {
   SequentialCordic unit;
   odoloc::rtl::clock_block(unit, {UInt<1>{1}, cordic::Angle{5461}, {}, {}});
-  for (unsigned k = 0; k < 5; ++k) odoloc::rtl::clock_block(unit, {});
+  for (unsigned k = 0; k < 5; ++k)
+    odoloc::rtl::clock_block(unit, {});
   odoloc::rtl::clock_block(unit, {UInt<1>{1}, cordic::Angle{40000}, {}, {}});
   EXPECT_TRUE(unit.regs().load_ignored);
   unsigned clocks = 6;
@@ -125,8 +132,8 @@ TEST(CordicConstants, PaperGainAndGeneratedTables) {
   EXPECT_EQ(cordic::kX0.value(),
             std::lround(static_cast<double>(std::ldexp(1 / product, cordic::kXyFractionBits))));
   for (int k = 0; k < cordic::kIterations; ++k) {
-    const long double exact =
-        std::atan(std::ldexp(1.0L, -(cordic::kFirstShift + k))) / kTwoPi * (1 << cordic::kZUnitsBits);
+    const long double exact = std::atan(std::ldexp(1.0L, -(cordic::kFirstShift + k))) / kTwoPi *
+                              (1 << cordic::kZUnitsBits);
     EXPECT_LE(std::fabs(cordic::kAtan.units[k] - exact), 0.5L) << k;
   }
 }

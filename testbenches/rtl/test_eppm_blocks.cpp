@@ -50,16 +50,18 @@ TEST(EppmDecoder, AllSixteenTransitionsInEveryMode) {
   for (const DecodeMode mode : {DecodeMode::kX4, DecodeMode::kX2, DecodeMode::kX1}) {
     for (unsigned prev = 0; prev < 4; ++prev) {
       for (unsigned curr = 0; curr < 4; ++curr) {
-        SCOPED_TRACE(testing::Message() << "mode " << static_cast<int>(mode) << " prev " << prev
-                                        << " curr " << curr);
+        SCOPED_TRACE(testing::Message()
+                     << "mode " << static_cast<int>(mode) << " prev " << prev << " curr " << curr);
         EppmBench tb;
         tb.cfg.filter_clocks = UInt<8>{0};
         tb.cfg.decode_mode = UInt<2>{static_cast<unsigned>(mode)};
         // Reach `prev` by legal forward steps from 00, then start clean.
         for (unsigned ab : {0b10U, 0b11U, 0b01U}) {
-          if (prev == 0) break;
+          if (prev == 0)
+            break;
           settle(tb, ab);
-          if (ab == prev) break;
+          if (ab == prev)
+            break;
         }
         tb.latch_clear();
         tb.clear_flags();
@@ -102,7 +104,8 @@ TEST(EppmDecoder, X1AndX2CountAFractionOfX4AndNetZeroBackAndForth) {
 TEST(EppmDecoder, IllegalTransitionsAreCountedAndSaturate) {
   EppmBench tb;
   tb.cfg.filter_clocks = UInt<8>{0};
-  for (int i = 0; i < 70'000; ++i) settle(tb, i % 2 == 0 ? 0b11 : 0b00);
+  for (int i = 0; i < 70'000; ++i)
+    settle(tb, i % 2 == 0 ? 0b11 : 0b00);
   EXPECT_EQ(tb.dut.decoder().error_count.value(), 65'535U);
   EXPECT_EQ(tb.dut.decoder().phase_error.value(), 1U);
   EXPECT_EQ(tb.count(), 0);
@@ -222,11 +225,13 @@ TEST(EppmCounter, IncrementsSumToTheTruthAtFullRate) {
   QuadratureSource source{0.999};  // an edge almost every clock
   std::int64_t sum = 0;
   for (int i = 0; i < 200'000; ++i) {
-    if (i == 100'000) source.set_rate(-0.7);
+    if (i == 100'000)
+      source.set_rate(-0.7);
     tb.set_pins(static_cast<unsigned>(source.tick().value()));
     tb.in.latch_clear = UInt<1>::truncate(i % 7 == 0 || i % 11 == 0);
     tb.clock();
-    if (i % 7 == 0 || i % 11 == 0) sum += tb.dut.counter().latched.value();
+    if (i % 7 == 0 || i % 11 == 0)
+      sum += tb.dut.counter().latched.value();
   }
   tb.clock(tb.latency());
   EXPECT_EQ(sum + tb.count(), source.edges());

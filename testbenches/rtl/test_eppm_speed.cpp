@@ -20,7 +20,9 @@ using odoloc::tb::EppmBench;
 
 constexpr double kClockHz = odoloc::sw::kFabricClockHz;
 
-double window_of(const EppmBench& tb) { return static_cast<double>(tb.cfg.window_clocks.value()); }
+double window_of(const EppmBench& tb) {
+  return static_cast<double>(tb.cfg.window_clocks.value());
+}
 double speed_of(const EppmBench& tb) {
   return static_cast<double>(tb.dut.speed(tb.cfg).value.value());
 }
@@ -49,7 +51,8 @@ TEST(EppmSpeed, PulseModeIsWithinOneEdgePerWindowOverTheRange) {
     int samples = 0;
     for (int w = 0; w < 4 * static_cast<int>(window); ++w) {
       tb.run(source, 1);
-      if (!tb.dut.pulse().sampled || static_cast<double>(tb.steps) <= window) continue;  // start-up
+      if (!tb.dut.pulse().sampled || static_cast<double>(tb.steps) <= window)
+        continue;  // start-up
       ++samples;
       const auto speed = tb.dut.speed(tb.cfg);
       ASSERT_EQ(speed.mode.value(), static_cast<unsigned>(SpeedMode::kPulse));
@@ -70,13 +73,15 @@ TEST(EppmSpeed, PeriodModeIsWithinOneTickPerEdgeOverTheRange) {
       QuadratureSource source{edges_per_s / kClockHz};
       const double ticks_per_clock = 1.0 / (prescale + 1.0);
       const double truth = ticks_per_clock / source.rate();  // ticks per edge
-      const double bound = 1.0 + ticks_per_clock;           // docs/eppm.md
+      const double bound = 1.0 + ticks_per_clock;            // docs/eppm.md
       int samples = 0;
       while (samples < 6) {
         tb.run(source, 1);
-        if (!tb.dut.period().sampled) continue;
+        if (!tb.dut.period().sampled)
+          continue;
         const auto speed = tb.dut.speed(tb.cfg);
-        if (!speed.valid) continue;  // the first edge only starts a measurement
+        if (!speed.valid)
+          continue;  // the first edge only starts a measurement
         ++samples;
         EXPECT_LE(std::abs(static_cast<double>(speed.value.value()) - truth), bound);
         // The paper's relative error f_edge / f_ref, up to the same factor.
@@ -164,7 +169,8 @@ TEST(EppmSpeed, BackwardSpeedsAreNegativeInBothModes) {
     const auto speed = tb.dut.speed(tb.cfg);
     EXPECT_TRUE(speed.valid);
     EXPECT_LT(speed.value.value(), 0);
-    const double truth = mode == SpeedModeSelect::kPulse ? -0.001 * window_of(tb) : -1.0 / (0.001 * 50);
+    const double truth =
+        mode == SpeedModeSelect::kPulse ? -0.001 * window_of(tb) : -1.0 / (0.001 * 50);
     EXPECT_LE(std::abs(speed_of(tb) - truth), 1.02);
   }
 }
@@ -176,11 +182,13 @@ TEST(EppmSpeed, ReversalInsideAPeriodMarksTheSampleInvalid) {
   tb.run(source, 20'000);  // ~10 edges
   ASSERT_TRUE(tb.dut.speed(tb.cfg).valid);
   source.set_rate(-0.0005);
-  while (!tb.dut.period().sampled) tb.run(source, 1);  // the first edge after the reversal
+  while (!tb.dut.period().sampled)
+    tb.run(source, 1);  // the first edge after the reversal
   EXPECT_FALSE(tb.dut.speed(tb.cfg).valid);
   EXPECT_EQ(tb.dut.speed(tb.cfg).value.value(), 0);
   tb.run(source, 1);
-  while (!tb.dut.period().sampled) tb.run(source, 1);
+  while (!tb.dut.period().sampled)
+    tb.run(source, 1);
   EXPECT_TRUE(tb.dut.speed(tb.cfg).valid);
   EXPECT_LT(tb.dut.speed(tb.cfg).value.value(), 0);
 }
@@ -199,7 +207,8 @@ TEST(EppmSpeed, StallReadsZeroAfterExactlyStallTicks) {
     since_edge = tb.dut.period().sampled ? 0 : since_edge + 1;
   }
   ASSERT_FALSE(tb.dut.speed(tb.cfg).stalled);
-  while (tb.dut.period().count.value() < 999) tb.clock();
+  while (tb.dut.period().count.value() < 999)
+    tb.clock();
   EXPECT_FALSE(tb.dut.speed(tb.cfg).stalled);
   tb.clock(tb.cfg.prescale.value() + 1);
   const auto speed = tb.dut.speed(tb.cfg);
@@ -208,7 +217,8 @@ TEST(EppmSpeed, StallReadsZeroAfterExactlyStallTicks) {
   EXPECT_EQ(speed.value.value(), 0);
   // The first edge after a stall only starts a new measurement.
   source.set_rate(0.01);
-  while (!tb.dut.period().sampled) tb.run(source, 1);
+  while (!tb.dut.period().sampled)
+    tb.run(source, 1);
   EXPECT_FALSE(tb.dut.speed(tb.cfg).valid);
   EXPECT_FALSE(tb.dut.speed(tb.cfg).stalled);
 }

@@ -170,24 +170,24 @@ class FrontOdometryUnit {
 };
 
 // The paper's error reduction: slip and bumps only ever add counts, so the
-// smaller increment is the better one. Comparing single 100 us increments is
-// biased, though: each is quantised by up to one edge, and the minimum of two
-// noisy readings under-reads (-2.9 % on a straight drive with the default
-// vehicle, test_odometry). So the comparison runs on a leaky sum of the
-// magnitude differences, D <- D - D/2^shift + (|rear| - |front|): sums of
-// quantised increments telescope, so |D| stays within about twice the
-// quantisation of one reading unless a source really over-counts. The front
-// source wins a component when D > threshold. shift = 0, threshold = 0 is
+// source that claims less motion is the better one. Comparing single 100 us
+// increments is biased, though: each is quantised by up to one edge, and the
+// minimum of two noisy readings under-reads (docs/odometry.md). So each
+// source's increments go into a leaky sum A <- A - A/2^shift + inc, which
+// telescopes (quantisation stays bounded), and the comparison D = |A_rear| -
+// |A_front| has hysteresis: the front takes a component over when D >
+// threshold and gives it back when D <= -threshold, so noise around one
+// threshold cannot flip the choice every update. shift = 0, threshold = 0 is
 // exactly the paper's memoryless minimum (ties: rear).
 class MinSelect {
  public:
+  using Accumulator = SInt<62>;
   struct Regs {
     Distance ds;
     Heading dtheta;
     UInt<1> ds_from_front;      // status: which source won the distance
     UInt<1> dtheta_from_front;  // status: which source won the heading
-    Distance ds_disagreement;   // leaky sum of |ds_rear| - |ds_front|
-    Heading dtheta_disagreement;
+    Accumulator rear_ds_sum, front_ds_sum, rear_dtheta_sum, front_dtheta_sum;
     bool operator==(const Regs&) const = default;
   };
   struct In {
@@ -205,19 +205,22 @@ class MinSelect {
   [[nodiscard]] Regs eval(const In& in) const {
     if (in.reset) return Regs{};
     if (!in.select) return r_;
-    const Distance ds_d = leak(r_.ds_disagreement, in.rear.ds.abs(), in.front_ds.abs(), in.shift);
-    const Heading dtheta_d =
-        leak(r_.dtheta_disagreement, in.rear.dtheta.abs(), in.front_dtheta.abs(), in.shift);
-    const bool rear_over_ds = ds_d > in.ds_threshold.to_sint();
-    const bool rear_over_dtheta = dtheta_d > in.dtheta_threshold.to_sint();
+    Regs n = r_;
+    n.rear_ds_sum = leak(r_.rear_ds_sum, in.rear.ds, in.shift);
+    n.front_ds_sum = leak(r_.front_ds_sum, in.front_ds, in.shift);
+    n.rear_dtheta_sum = leak(r_.rear_dtheta_sum, in.rear.dtheta, in.shift);
+    n.front_dtheta_sum = leak(r_.front_dtheta_sum, in.front_dtheta, in.shift);
+    const bool front_ds = front_wins(r_.ds_from_front, n.rear_ds_sum, n.front_ds_sum, in.ds_threshold);
+    const bool front_dtheta = front_wins(r_.dtheta_from_front, n.rear_dtheta_sum,
+                                         n.front_dtheta_sum, in.dtheta_threshold);
     bool ds_front = false, dtheta_front = false;
     switch (static_cast<MinSelectPolicy>(in.policy.value())) {
       case MinSelectPolicy::kPerComponent:
-        ds_front = rear_over_ds;
-        dtheta_front = rear_over_dtheta;
+        ds_front = front_ds;
+        dtheta_front = front_dtheta;
         break;
       case MinSelectPolicy::kWholeSet:
-        ds_front = dtheta_front = rear_over_ds;
+        ds_front = dtheta_front = front_ds;
         break;
       case MinSelectPolicy::kRearOnly:
         break;
@@ -225,12 +228,11 @@ class MinSelect {
         ds_front = dtheta_front = true;
         break;
     }
-    return {ds_front ? in.front_ds : in.rear.ds,
-            dtheta_front ? in.front_dtheta : in.rear.dtheta,
-            UInt<1>::truncate(ds_front),
-            UInt<1>::truncate(dtheta_front),
-            ds_d,
-            dtheta_d};
+    n.ds = ds_front ? in.front_ds : in.rear.ds;
+    n.dtheta = dtheta_front ? in.front_dtheta : in.rear.dtheta;
+    n.ds_from_front = UInt<1>::truncate(ds_front);
+    n.dtheta_from_front = UInt<1>::truncate(dtheta_front);
+    return n;
   }
   [[nodiscard]] bool idle(const In& in) const { return (in.select | in.reset).is_zero(); }
   void commit(const Regs& n) { r_ = n; }
@@ -243,16 +245,24 @@ class MinSelect {
     v.signal("dtheta", r_.dtheta);
     v.signal("ds_from_front", r_.ds_from_front);
     v.signal("dtheta_from_front", r_.dtheta_from_front);
-    v.signal("ds_disagreement", r_.ds_disagreement);
-    v.signal("dtheta_disagreement", r_.dtheta_disagreement);
+    v.signal("rear_ds_sum", r_.rear_ds_sum);
+    v.signal("front_ds_sum", r_.front_ds_sum);
+    v.signal("rear_dtheta_sum", r_.rear_dtheta_sum);
+    v.signal("front_dtheta_sum", r_.front_dtheta_sum);
   }
 
  private:
-  // D - D/2^shift + (rear - front), saturating; shift 0 forgets D entirely.
+  // A - A/2^shift + inc, saturating; shift 0 keeps only inc.
   template <int W>
-  static SInt<W> leak(SInt<W> d, UInt<W> rear, UInt<W> front, UInt<4> shift) {
-    const SInt<W + 1> kept = d - d.dshr(shift);
-    return (kept + (rear.to_sint() - front.to_sint())).template sat<W>();
+  static Accumulator leak(Accumulator a, SInt<W> inc, UInt<4> shift) {
+    return ((a - a.dshr(shift)) + inc).template sat<Accumulator::width>();
+  }
+  // The front's claim must fall below the rear's by more than the threshold
+  // to take over, and rise above it by as much to hand back.
+  static bool front_wins(UInt<1> front_now, Accumulator rear, Accumulator front,
+                         UInt<32> threshold) {
+    const SInt<64> d = (rear.abs().to_sint() - front.abs().to_sint()).wrap<64>();  // |d| < 2^62
+    return front_now ? d > -threshold.to_sint() : d > threshold.to_sint();
   }
   Regs r_;
 };

@@ -28,22 +28,27 @@ class OdometryFabric {
   template <Gating G = Gating::kOn>
   [[gnu::flatten]] void step(const Inputs& in, const OdometryFabricConfig& cfg) {
     const OdometryConfig& oc = cfg.odometry;
+    const OdometrySequencer::In sequencer_in{oc.update_clocks, cordic_.regs().ready,
+                                             in.clear_flags, in.reset};
+    // Between updates (the common case) only the EPPMs and the period
+    // counter move: the CORDIC and every unit are idle.
+    if (G == Gating::kOn && sequencer_.in(OdometryPhase::kIdle) &&
+        (in.set_pose | in.clear_flags | in.reset).is_zero()) {
+      encoders_.step<G>(eppm_inputs(in, UInt<1>{}), cfg.eppm);
+      sequencer_.commit(sequencer_.eval(sequencer_in));
+      return;
+    }
     // Wires from the current registers.
-    const UInt<1> latch = bit(sequencer_.in(OdometryPhase::kLatch));
-    const UInt<1> gather = bit(sequencer_.in(OdometryPhase::kGather));
     const UInt<1> phi_load = bit(sequencer_.in(OdometryPhase::kPhiLoad));
     const UInt<1> theta_load = bit(sequencer_.in(OdometryPhase::kThetaLoad));
+    const UInt<1> gather = bit(sequencer_.in(OdometryPhase::kGather));
     const auto latched = [&](Wheel w) { return encoders_.eppm(w).counter().latched; };
     const cordic::SinCos sincos = cordic_.regs().result;
     const cordic::Angle cordic_angle =
         phi_load ? front_.cordic_angle() : integrator_.cordic_angle(select_.regs().dtheta);
 
-    EncoderFabric::Inputs eppm_in{};
-    for (std::size_t w = 0; w < kWheelCount; ++w) {
-      eppm_in[w] = {in.pins[w].bit<1>(), in.pins[w].bit<0>(), latch, in.clear_flags, in.reset};
-    }
-    encoders_.step<G>(eppm_in, cfg.eppm);
-    clock_block<G>(sequencer_, {oc.update_clocks, cordic_.regs().ready, in.clear_flags, in.reset});
+    encoders_.step<G>(eppm_inputs(in, bit(sequencer_.in(OdometryPhase::kLatch))), cfg.eppm);
+    clock_block<G>(sequencer_, sequencer_in);
     clock_block<G>(cordic_, {phi_load | theta_load, cordic_angle, in.clear_flags, in.reset});
     clock_block<G>(rear_, {gather, latched(Wheel::kLeftRear), latched(Wheel::kRightRear),
                            oc.rear_ds_scale, oc.rear_dtheta_scale, in.reset});
@@ -93,6 +98,13 @@ class OdometryFabric {
 
  private:
   static UInt<1> bit(bool b) { return UInt<1>::truncate(b); }
+  static EncoderFabric::Inputs eppm_inputs(const Inputs& in, UInt<1> latch) {
+    EncoderFabric::Inputs e;
+    for (std::size_t w = 0; w < kWheelCount; ++w) {
+      e[w] = {in.pins[w].bit<1>(), in.pins[w].bit<0>(), latch, in.clear_flags, in.reset};
+    }
+    return e;
+  }
   template <class V, class Child>
   static void trace_child(V& v, std::string_view name, const Child& child) {
     v.enter(name);

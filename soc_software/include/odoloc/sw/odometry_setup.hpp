@@ -67,18 +67,19 @@ inline OdometryScales odometry_scales(const VehicleGeometry& g) {
   };
 }
 
-// Min-select tuning. A sum of quantised increments telescopes, so the leaky
-// disagreement of two honest sources stays within about twice one reading's
-// quantisation: one edge per wheel, i.e. kappa_rear + kappa_front in
-// distance and 2 kappa_rear / D + kappa_front / L in heading. The thresholds
-// are `margin` times one reading's quantisation; shift sets the memory
-// (2^shift updates). shift = 0 with zero thresholds is the paper's rule.
+// Min-select tuning. Leaky sums of quantised increments telescope: two honest
+// sources differ by at most about one reading's quantisation, one edge per
+// wheel: kappa_rear + kappa_front in distance, 2 kappa_rear / D + kappa_front
+// / L in heading. The threshold is `margin` times that, so noise neither
+// takes a component over nor hands it back; shift sets the memory (2^shift
+// updates: 4096 = 0.41 s at 100 us, long enough to integrate a bump's
+// over-count). shift = 0 with zero thresholds is the paper's rule.
 struct MinSelectSetup {
   std::uint8_t shift;
   std::uint32_t ds_threshold;      // 2^-32 m
   std::uint32_t dtheta_threshold;  // 2^-40 turn
 };
-inline MinSelectSetup min_select_setup(const VehicleGeometry& g, std::uint8_t shift = 6,
+inline MinSelectSetup min_select_setup(const VehicleGeometry& g, std::uint8_t shift = 12,
                                        double margin = 3.0) {
   const double kappa_rear = g.rear.metres_per_edge();
   const double kappa_front = g.front.metres_per_edge();

@@ -1,0 +1,305 @@
+// Activity gating is invisible: an EPPM stepped with Gating::kOn matches one
+// stepped with Gating::kOff register for register, clock for clock, under
+// random pins, strobes, resets and configuration changes; and every leaf
+// block keeps its contract "idle(in) implies eval(in) == regs()".
+//
+// ODOLOC_TEST_SCALE multiplies the clock budgets (e.g. 0.1 for a quick run).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <cstdlib>
+#include <random>
+#include <string>
+#include <string_view>
+#include <tuple>
+#include <vector>
+
+#include "odoloc/rtl/eppm.hpp"
+
+namespace {
+
+using odoloc::rtl::Eppm;
+using odoloc::rtl::EppmConfig;
+using odoloc::rtl::EppmInputs;
+using odoloc::rtl::Gating;
+using odoloc::rtl::InputConditioner;
+using odoloc::rtl::PeriodMeter;
+using odoloc::rtl::PositionCounter;
+using odoloc::rtl::PulseMeter;
+using odoloc::rtl::QuadratureDecoder;
+using odoloc::rtl::SInt;
+using odoloc::rtl::SpeedTimebase;
+using odoloc::rtl::UInt;
+using Rng = std::mt19937_64;
+
+std::uint64_t scaled(std::uint64_t clocks) {
+  const char* env = std::getenv("ODOLOC_TEST_SCALE");  // NOLINT(concurrency-mt-unsafe)
+  const double scale = env != nullptr ? std::strtod(env, nullptr) : 1.0;
+  if (!(scale > 0))
+    return clocks;
+  return std::max<std::uint64_t>(1000,
+                                 static_cast<std::uint64_t>(static_cast<double>(clocks) * scale));
+}
+
+bool one_in(Rng& rng, std::uint64_t n) {
+  return rng() % n == 0;
+}
+template <int W>
+UInt<W> random_uint(Rng& rng) {
+  return UInt<W>::truncate(rng());
+}
+template <int W>
+SInt<W> random_sint(Rng& rng) {
+  return SInt<W>::truncate(static_cast<std::int64_t>(rng()));
+}
+template <int W, std::size_t N>
+UInt<W> pick(Rng& rng, const std::array<std::uint32_t, N>& values) {
+  return UInt<W>::truncate(values[rng() % N]);
+}
+
+// Renders registers through a block's trace() hook, for failure messages.
+class RegisterDump {
+ public:
+  void enter(std::string_view name) {
+    scope_lengths_.push_back(prefix_.size());
+    prefix_.append(name).append(".");
+  }
+  void leave() {
+    prefix_.resize(scope_lengths_.back());
+    scope_lengths_.pop_back();
+  }
+  template <int W>
+  void signal(std::string_view name, UInt<W> v) {
+    add(name, std::to_string(v.value()));
+  }
+  template <int W>
+  void signal(std::string_view name, SInt<W> v) {
+    add(name, std::to_string(v.value()));
+  }
+  std::string text;
+
+ private:
+  void add(std::string_view name, const std::string& value) {
+    text.append(prefix_).append(name).append("=").append(value).append(" ");
+  }
+  std::string prefix_;
+  std::vector<std::size_t> scope_lengths_;
+};
+
+template <class Block>
+std::string dump(const Block& block) {
+  RegisterDump d;
+  block.trace(d);
+  return d.text;
+}
+
+// Short windows and prescalers keep the full path busy, long ones let the
+// settled fast path run for thousands of clocks.
+EppmConfig random_config(Rng& rng) {
+  EppmConfig cfg;
+  cfg.filter_clocks = one_in(rng, 4) ? random_uint<8>(rng) : UInt<8>::truncate(rng() % 8);
+  cfg.decode_mode = random_uint<2>(rng);
+  cfg.speed_mode_select = random_uint<2>(rng);
+  cfg.window_clocks = pick<23>(rng, std::array<std::uint32_t, 7>{0, 1, 2, 7, 100, 1000, 50'000});
+  cfg.prescale = pick<16>(rng, std::array<std::uint32_t, 5>{0, 1, 3, 49, 999});
+  cfg.to_period_below = UInt<23>::truncate(rng() % 40);
+  cfg.to_pulse_at = UInt<23>::truncate(rng() % 60);
+  cfg.stall_ticks = pick<23>(rng, std::array<std::uint32_t, 5>{0, 1, 3, 50, 50'000});
+  return cfg;
+}
+
+// Rewrites a random subset of the fields.
+void change_config(Rng& rng, EppmConfig& cfg) {
+  const EppmConfig fresh = random_config(rng);
+  const auto maybe = [&rng](auto& field, auto value) {
+    if (one_in(rng, 3))
+      field = value;
+  };
+  maybe(cfg.filter_clocks, fresh.filter_clocks);
+  maybe(cfg.decode_mode, fresh.decode_mode);
+  maybe(cfg.speed_mode_select, fresh.speed_mode_select);
+  maybe(cfg.window_clocks, fresh.window_clocks);
+  maybe(cfg.prescale, fresh.prescale);
+  maybe(cfg.to_period_below, fresh.to_period_below);
+  maybe(cfg.to_pulse_at, fresh.to_pulse_at);
+  maybe(cfg.stall_ticks, fresh.stall_ticks);
+}
+
+TEST(EppmGating, GatedAndUngatedAgreeEveryClock) {
+  const std::uint64_t clocks_per_seed = scaled(1'000'000);
+  for (const std::uint64_t seed : {11U, 12U, 13U, 14U}) {
+    Rng rng(seed);
+    Eppm gated;
+    Eppm ungated;
+    EppmConfig cfg = random_config(rng);
+    bool busy = false;
+    unsigned pins = 0;
+    std::uint64_t quiet_clocks = 0;  // clocks that changed nothing but timebase and period
+    for (std::uint64_t k = 0; k < clocks_per_seed; ++k) {
+      if (one_in(rng, 10'000))
+        change_config(rng, cfg);
+      if (one_in(rng, 3000))
+        busy = !busy;
+      if (one_in(rng, busy ? 3 : 3000))
+        pins ^= one_in(rng, 10) ? 0b11U : 1U << (rng() % 2);
+      EppmInputs in;
+      in.a = UInt<1>::truncate(pins >> 1);
+      in.b = UInt<1>::truncate(pins);
+      in.latch_clear = UInt<1>::truncate(one_in(rng, 500));
+      in.clear_flags = UInt<1>::truncate(one_in(rng, 500));
+      in.reset = UInt<1>::truncate(one_in(rng, 50'000));
+
+      const auto before =
+          std::tuple(ungated.conditioner(), ungated.decoder(), ungated.counter(), ungated.pulse());
+      gated.step<Gating::kOn>(in, cfg);
+      ungated.step<Gating::kOff>(in, cfg);
+      if (before == std::tuple(ungated.conditioner(), ungated.decoder(), ungated.counter(),
+                               ungated.pulse())) {
+        ++quiet_clocks;
+      }
+      const bool same =
+          gated.conditioner() == ungated.conditioner() && gated.decoder() == ungated.decoder() &&
+          gated.counter() == ungated.counter() && gated.timebase() == ungated.timebase() &&
+          gated.pulse() == ungated.pulse() && gated.period() == ungated.period() &&
+          gated.speed(cfg) == ungated.speed(cfg);
+      ASSERT_TRUE(same) << "seed " << seed << " step " << k << "\n  gated:   " << dump(gated)
+                        << "\n  ungated: " << dump(ungated);
+    }
+    EXPECT_GT(quiet_clocks, clocks_per_seed / 4) << "seed " << seed << ": too little gating";
+  }
+}
+
+// Drives a leaf block with random inputs from random states (a fresh random
+// register set every 1000 clocks) and checks the idle contract at every clock.
+// Returns the share of idle clocks, so a test can tell the check was not vacuous.
+template <class Block, class RandomRegs, class RandomIn>
+double check_idle_contract(std::uint64_t seed, RandomRegs random_regs, RandomIn random_in) {
+  const std::uint64_t clocks = scaled(200'000);
+  Rng rng(seed);
+  Block block;
+  std::uint64_t idle_clocks = 0;
+  for (std::uint64_t k = 0; k < clocks; ++k) {
+    if (k % 1000 == 0)
+      block.commit(random_regs(rng));
+    const typename Block::In in = random_in(rng);
+    const typename Block::Regs next = block.eval(in);
+    if (block.idle(in)) {
+      ++idle_clocks;
+      if (!(next == block.regs())) {
+        Block stepped = block;
+        stepped.commit(next);
+        ADD_FAILURE() << "idle but eval changes state, seed " << seed << " step " << k
+                      << "\n  regs: " << dump(block) << "\n  eval: " << dump(stepped);
+        return 0;
+      }
+    }
+    block.commit(next);
+  }
+  return static_cast<double>(idle_clocks) / static_cast<double>(clocks);
+}
+
+// Inputs mostly hold their value or stay quiet, so idle clocks are common.
+SInt<2> random_step(Rng& rng) {
+  return SInt<2>::truncate(one_in(rng, 4) ? (rng() % 2 == 0 ? 1 : -1) : 0);
+}
+
+TEST(LeafIdleContract, InputConditioner) {
+  UInt<2> pins;
+  const double idle_share = check_idle_contract<InputConditioner>(
+      21,
+      [](Rng& rng) {
+        return InputConditioner::Regs{random_uint<2>(rng), random_uint<2>(rng), random_uint<2>(rng),
+                                      random_uint<8>(rng), random_uint<8>(rng)};
+      },
+      [&pins](Rng& rng) {
+        if (one_in(rng, 8))
+          pins = random_uint<2>(rng);
+        return InputConditioner::In{pins, UInt<8>::truncate(rng() % 5),
+                                    UInt<1>::truncate(one_in(rng, 100))};
+      });
+  EXPECT_GT(idle_share, 0.05);
+}
+
+TEST(LeafIdleContract, QuadratureDecoder) {
+  UInt<2> filtered;
+  const double idle_share = check_idle_contract<QuadratureDecoder>(
+      22,
+      [](Rng& rng) {
+        return QuadratureDecoder::Regs{random_uint<2>(rng), random_uint<1>(rng),
+                                       random_uint<1>(rng), random_uint<16>(rng)};
+      },
+      [&filtered](Rng& rng) {
+        if (one_in(rng, 4))
+          filtered = random_uint<2>(rng);
+        return QuadratureDecoder::In{filtered, UInt<1>::truncate(one_in(rng, 20)),
+                                     UInt<1>::truncate(one_in(rng, 100))};
+      });
+  EXPECT_GT(idle_share, 0.05);
+}
+
+TEST(LeafIdleContract, PositionCounter) {
+  const double idle_share = check_idle_contract<PositionCounter>(
+      23,
+      [](Rng& rng) {
+        return PositionCounter::Regs{random_sint<20>(rng), random_sint<20>(rng),
+                                     random_uint<1>(rng), random_uint<1>(rng)};
+      },
+      [](Rng& rng) {
+        return PositionCounter::In{random_step(rng), UInt<1>::truncate(one_in(rng, 20)),
+                                   UInt<1>::truncate(one_in(rng, 20)),
+                                   UInt<1>::truncate(one_in(rng, 100))};
+      });
+  EXPECT_GT(idle_share, 0.05);
+}
+
+// The timebase counts every clock (idle() is always false): checked for
+// completeness, no idle clocks to expect.
+TEST(LeafIdleContract, SpeedTimebase) {
+  check_idle_contract<SpeedTimebase>(
+      24,
+      [](Rng& rng) {
+        return SpeedTimebase::Regs{random_uint<23>(rng), random_uint<16>(rng)};
+      },
+      [](Rng& rng) {
+        return SpeedTimebase::In{UInt<23>::truncate(rng() % 100), UInt<16>::truncate(rng() % 10),
+                                 UInt<1>::truncate(one_in(rng, 100))};
+      });
+}
+
+TEST(LeafIdleContract, PulseMeter) {
+  const double idle_share = check_idle_contract<PulseMeter>(
+      25,
+      [](Rng& rng) {
+        return PulseMeter::Regs{random_sint<24>(rng), random_sint<24>(rng), random_uint<1>(rng),
+                                random_uint<1>(rng)};
+      },
+      [](Rng& rng) {
+        return PulseMeter::In{random_step(rng),
+                              one_in(rng, 8),
+                              random_uint<2>(rng),
+                              UInt<23>::truncate(rng() % 40),
+                              UInt<23>::truncate(rng() % 60),
+                              UInt<1>::truncate(one_in(rng, 100))};
+      });
+  EXPECT_GT(idle_share, 0.05);
+}
+
+TEST(LeafIdleContract, PeriodMeter) {
+  const double idle_share = check_idle_contract<PeriodMeter>(
+      26,
+      [](Rng& rng) {
+        return PeriodMeter::Regs{random_uint<23>(rng), random_uint<23>(rng), random_uint<1>(rng),
+                                 random_uint<1>(rng),  random_uint<1>(rng),  random_uint<1>(rng),
+                                 random_uint<1>(rng)};
+      },
+      [](Rng& rng) {
+        return PeriodMeter::In{random_step(rng), one_in(rng, 4), random_uint<23>(rng),
+                               UInt<1>::truncate(one_in(rng, 20)),
+                               UInt<1>::truncate(one_in(rng, 100))};
+      });
+  EXPECT_GT(idle_share, 0.05);
+}
+
+}  // namespace
