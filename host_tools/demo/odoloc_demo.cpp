@@ -5,7 +5,6 @@
 // Prints the final pose error of each, writes the trajectories as CSV and
 // plots them with gnuplot.
 #include <CLI/CLI.hpp>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -60,12 +59,13 @@ bool plot(const std::filesystem::path& dir, const std::vector<Variant>& variants
   gp << "set terminal pngcairo size 1400,650 font ',10'\n"
      << "set output '" << (dir / "trajectories.png").string() << "'\n"
      << "set datafile separator ','\nset key autotitle columnhead\n"
-     << "set multiplot layout 1,2 title 'odoloc: 6 m square (rounded corners) with bumps and slip'\n"
+     << "set multiplot layout 1,2 title 'odoloc: 6 m square (rounded corners) with bumps and "
+        "slip'\n"
      << "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'\nset grid\n"
      << "plot 'trajectories.csv' using 2:3 with lines lt 1 lw 4 title 'ground truth'";
   for (std::size_t i = 0; i < variants.size(); ++i) {
-    gp << ", '' using " << 5 + 3 * i << ':' << 6 + 3 * i << " with lines lt " << i + 2
-       << " title '" << variants[i].label << "'";
+    gp << ", '' using " << 5 + 3 * i << ':' << 6 + 3 * i << " with lines lt " << i + 2 << " title '"
+       << variants[i].label << "'";
   }
   gp << "\nset size noratio\nset xlabel 'time [s]'\nset ylabel 'position error [mm]'\n"
      << "set logscale y\nplot ";
@@ -96,13 +96,15 @@ int main(int argc, char** argv) {
       {"min-select", "minsel", {MinSelectPolicy::kPerComponent, false, kRecordEveryClocks}},
   };
   if (paper) {
-    variants.push_back({"min-select (paper, memoryless)", "paper",
+    variants.push_back({"min-select (paper, memoryless)",
+                        "paper",
                         {MinSelectPolicy::kPerComponent, true, kRecordEveryClocks}});
   }
 
   std::printf("odoloc odometry demo: %s\n", scenario.name.c_str());
-  std::printf("fabric: 4 EPPMs, sequential CORDIC, rear/front units, min-select; 50 MHz, "
-              "update every 100 us\n");
+  std::printf(
+      "fabric: 4 EPPMs, sequential CORDIC, rear/front units, min-select; 50 MHz, "
+      "update every 100 us\n");
   std::printf("running %zu cycle-accurate simulations on %u threads...\n", variants.size(),
               std::max(1U, std::thread::hardware_concurrency()));
   const auto start = std::chrono::steady_clock::now();
@@ -114,13 +116,14 @@ int main(int argc, char** argv) {
           [&, i] { results[i] = odoloc::scenario::run(scenario, variants[i].options); });
     }
   }
-  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   const auto& truth = results.front().truth;
   std::printf("\npath %.2f m, ground truth end pose x %.4f m, y %.4f m, heading %.3f deg\n\n",
               results.front().distance_m, truth.x_m, truth.y_m, truth.theta_rad * 180 / M_PI);
-  std::printf("%-32s %10s %10s %12s %14s %16s\n", "odometry", "x [m]", "y [m]",
-              "pos err [mm]", "head err [deg]", "ds from front");
+  std::printf("%-32s %10s %10s %12s %14s %16s\n", "odometry", "x [m]", "y [m]", "pos err [mm]",
+              "head err [deg]", "ds from front");
   for (std::size_t i = 0; i < variants.size(); ++i) {
     const RunResult& r = results[i];
     std::printf("%-32s %10.4f %10.4f %12.2f %14.4f %15.1f%%\n", variants[i].label, r.fabric.x_m,
@@ -128,10 +131,12 @@ int main(int argc, char** argv) {
                 100.0 * static_cast<double>(r.front_wins_ds) / static_cast<double>(r.updates));
   }
   std::uint64_t clocks = 0;
-  for (const RunResult& r : results) clocks += r.clocks;
+  for (const RunResult& r : results)
+    clocks += r.clocks;
   std::printf("\nsimulated %zu x %.1f s (%.2f G clocks) in %.1f s wall (%.1f M clocks/s)\n",
               results.size(), static_cast<double>(results.front().clocks) / 50e6,
-              static_cast<double>(clocks) / 1e9, wall_s, static_cast<double>(clocks) / wall_s / 1e6);
+              static_cast<double>(clocks) / 1e9, wall_s,
+              static_cast<double>(clocks) / wall_s / 1e6);
 
   const std::filesystem::path dir(out_dir);
   std::filesystem::create_directories(dir);

@@ -3,7 +3,6 @@
 // the ground truth, and checks that the read-increment sums equal the true
 // edge counts. Optional VCD dump of the first clocks.
 #include <CLI/CLI.hpp>
-
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -47,7 +46,8 @@ int main(int argc, char** argv) {
   std::string vcd_path;
   std::uint64_t vcd_clocks = 20'000;
   app.add_option("--vcd", vcd_path, "write a VCD waveform of the first clocks to this file");
-  app.add_option("--vcd-clocks", vcd_clocks, "clocks to dump with --vcd")->check(CLI::PositiveNumber);
+  app.add_option("--vcd-clocks", vcd_clocks, "clocks to dump with --vcd")
+      ->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
 
   const odoloc::sw::EncoderGeometry geometry;
@@ -78,12 +78,14 @@ int main(int argc, char** argv) {
     vcd->declare(fabric);
   }
 
-  std::printf("odoloc encoder fabric demo: 4 EPPMs at %.0f MHz, window %.1f ms, reference %.2f MHz\n",
-              odoloc::rtl::kFabricClockHz / 1e6, timing.window_s() * 1e3,
-              timing.reference_hz() / 1e6);
-  std::printf("wheel: R = %.3f m, %g lines x4, gear %g:1 -> %.2f um per edge; switch period<%u, pulse>=%u edges/window\n\n",
-              geometry.wheel_radius_m, geometry.lines_per_rev, geometry.gear_ratio,
-              geometry.metres_per_edge() * 1e6, thresholds.to_period_below, thresholds.to_pulse_at);
+  std::printf(
+      "odoloc encoder fabric demo: 4 EPPMs at %.0f MHz, window %.1f ms, reference %.2f MHz\n",
+      odoloc::rtl::kFabricClockHz / 1e6, timing.window_s() * 1e3, timing.reference_hz() / 1e6);
+  std::printf(
+      "wheel: R = %.3f m, %g lines x4, gear %g:1 -> %.2f um per edge; switch period<%u, pulse>=%u "
+      "edges/window\n\n",
+      geometry.wheel_radius_m, geometry.lines_per_rev, geometry.gear_ratio,
+      geometry.metres_per_edge() * 1e6, thresholds.to_period_below, thresholds.to_pulse_at);
   std::printf("%-18s %-12s %10s %10s %6s %9s %9s\n", "phase", "wheel", "true m/s", "read m/s",
               "mode", "error %", "bound %");
 
@@ -93,7 +95,8 @@ int main(int argc, char** argv) {
     for (std::size_t w = 0; w < kWheelCount; ++w) {
       sources[w].set_rate(phase.mps[w] / geometry.metres_per_edge() / odoloc::rtl::kFabricClockHz);
     }
-    const auto phase_clocks = static_cast<std::uint64_t>(phase.seconds * odoloc::rtl::kFabricClockHz);
+    const auto phase_clocks =
+        static_cast<std::uint64_t>(phase.seconds * odoloc::rtl::kFabricClockHz);
     for (std::uint64_t i = 0; i < phase_clocks; ++i, ++clock) {
       const bool latch = clock % kLatchEveryClocks == kLatchEveryClocks - 1;
       for (std::size_t w = 0; w < kWheelCount; ++w) {
@@ -105,10 +108,12 @@ int main(int argc, char** argv) {
       fabric.step(in, cfg);
       if (latch) {
         for (std::size_t w = 0; w < kWheelCount; ++w) {
-          increments_sum[w] += fabric.eppm(static_cast<odoloc::rtl::Wheel>(w)).counter().latched.value();
+          increments_sum[w] +=
+              fabric.eppm(static_cast<odoloc::rtl::Wheel>(w)).counter().latched.value();
         }
       }
-      if (vcd && clock < vcd_clocks) vcd->sample(fabric, clock);
+      if (vcd && clock < vcd_clocks)
+        vcd->sample(fabric, clock);
     }
     for (std::size_t w = 0; w < kWheelCount; ++w) {
       const auto s = fabric.eppm(static_cast<odoloc::rtl::Wheel>(w)).speed(cfg[w]);
@@ -131,7 +136,8 @@ int main(int argc, char** argv) {
       }
     }
   }
-  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   std::printf("\n%-12s %14s %14s %14s\n", "wheel", "true edges", "sum of reads", "in counter");
   int mismatches = 0;
@@ -141,17 +147,20 @@ int main(int argc, char** argv) {
     // The pins reach the counter through a 2-flop synchroniser, the filter
     // and the decoder: edges of the last few clocks are still in flight.
     const std::int64_t in_flight = sources[w].edges() - counted;
-    if (std::llabs(in_flight) > 1) ++mismatches;
-    std::printf("%-12s %14lld %14lld %14lld\n", kWheelNames[w],
-                static_cast<long long>(sources[w].edges()), static_cast<long long>(increments_sum[w]),
-                static_cast<long long>(eppm.count().value()));
+    if (std::llabs(in_flight) > 1)
+      ++mismatches;
+    std::printf(
+        "%-12s %14lld %14lld %14lld\n", kWheelNames[w], static_cast<long long>(sources[w].edges()),
+        static_cast<long long>(increments_sum[w]), static_cast<long long>(eppm.count().value()));
   }
-  std::printf("\nsimulated %.3f s (%llu clocks) in %.3f s wall: %.1f M clocks/s (%.1fx real time)\n",
-              static_cast<double>(clock) / odoloc::rtl::kFabricClockHz,
-              static_cast<unsigned long long>(clock), wall_s, static_cast<double>(clock) / wall_s / 1e6,
-              static_cast<double>(clock) / odoloc::rtl::kFabricClockHz / wall_s);
-  if (vcd) std::printf("waveform: %s (first %llu clocks)\n", vcd_path.c_str(),
-                       static_cast<unsigned long long>(vcd_clocks));
+  std::printf(
+      "\nsimulated %.3f s (%llu clocks) in %.3f s wall: %.1f M clocks/s (%.1fx real time)\n",
+      static_cast<double>(clock) / odoloc::rtl::kFabricClockHz,
+      static_cast<unsigned long long>(clock), wall_s, static_cast<double>(clock) / wall_s / 1e6,
+      static_cast<double>(clock) / odoloc::rtl::kFabricClockHz / wall_s);
+  if (vcd)
+    std::printf("waveform: %s (first %llu clocks)\n", vcd_path.c_str(),
+                static_cast<unsigned long long>(vcd_clocks));
   if (mismatches != 0) {
     std::printf("FAIL: %d wheel(s) lost or doubled edges\n", mismatches);
     return 1;

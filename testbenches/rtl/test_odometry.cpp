@@ -38,8 +38,8 @@ TEST(RearUnit, IncrementsAreTheExactRoundedProducts) {
   for (int i = 0; i < 200'000; ++i) {
     const std::int64_t nl = count(rng), nr = count(rng);
     const std::uint64_t ks = scale(rng), kt = scale(rng);
-    odoloc::rtl::clock_block(unit, {UInt<1>{1}, SInt<20>{nl}, SInt<20>{nr}, UInt<32>{ks},
-                                    UInt<32>{kt}, {}});
+    odoloc::rtl::clock_block(
+        unit, {UInt<1>{1}, SInt<20>{nl}, SInt<20>{nr}, UInt<32>{ks}, UInt<32>{kt}, {}});
     ASSERT_EQ(unit.regs().ds.value(), round_shift(Int128{nl + nr} * ks, 8));
     ASSERT_EQ(unit.regs().dtheta.value(), (nr - nl) * static_cast<std::int64_t>(kt));
   }
@@ -50,14 +50,21 @@ TEST(FrontUnit, IncrementsAndSteeringClamp) {
   const auto scales = odoloc::sw::odometry_scales(g);
   odoloc::rtl::FrontOdometryUnit unit;
   const auto start = [&](std::int64_t n_front, std::int64_t n_steer) {
-    odoloc::rtl::clock_block(
-        unit, {UInt<1>{1}, UInt<1>{}, SInt<20>{n_front}, SInt<20>{n_steer}, {},
-               UInt<32>{scales.front_ds}, UInt<32>{scales.front_dtheta}, UInt<32>{scales.steer},
-               UInt<32>{scales.steer_limit}, {}, {}});
+    odoloc::rtl::clock_block(unit, {UInt<1>{1},
+                                    UInt<1>{},
+                                    SInt<20>{n_front},
+                                    SInt<20>{n_steer},
+                                    {},
+                                    UInt<32>{scales.front_ds},
+                                    UInt<32>{scales.front_dtheta},
+                                    UInt<32>{scales.steer},
+                                    UInt<32>{scales.steer_limit},
+                                    {},
+                                    {}});
   };
   const auto finish = [&](odoloc::rtl::cordic::SinCos sc) {
-    odoloc::rtl::clock_block(unit, {UInt<1>{}, UInt<1>{1}, {}, {}, sc, UInt<32>{scales.front_ds},
-                                    {}, {}, {}, {}, {}});
+    odoloc::rtl::clock_block(
+        unit, {UInt<1>{}, UInt<1>{1}, {}, {}, sc, UInt<32>{scales.front_ds}, {}, {}, {}, {}, {}});
   };
   // 30 degrees of steering, 1000 drive edges.
   const std::int64_t steer_edges = std::lround(30.0 / 360.0 / g.steering.turns_per_edge());
@@ -131,8 +138,8 @@ TEST(MinSelect, PaperRuleForEveryPolicyAndTheStatusBits) {
 TEST(MinSelect, LeakySumsIgnoreQuantisationAndHysteresisHoldsTheChoice) {
   odoloc::rtl::MinSelect select;
   const auto clock = [&](std::int64_t rear, std::int64_t front) {
-    odoloc::rtl::clock_block(
-        select, select_input(MinSelectPolicy::kPerComponent, rear, 0, front, 0, 4, 3));
+    odoloc::rtl::clock_block(select,
+                             select_input(MinSelectPolicy::kPerComponent, rear, 0, front, 0, 4, 3));
   };
   // Quantisation: the rear reads 101, 99, 101, ... against 100. The sums
   // telescope, so the difference never reaches the threshold.
@@ -165,7 +172,8 @@ TEST(MinSelect, LeakySumsIgnoreQuantisationAndHysteresisHoldsTheChoice) {
 
 TEST(OdometrySequencer, UpdateLatencyIsExactAndOverrunIsFlagged) {
   OdometryBench bench;
-  while (bench.fabric.phase() != odoloc::rtl::OdometryPhase::kLatch) bench.step();
+  while (bench.fabric.phase() != odoloc::rtl::OdometryPhase::kLatch)
+    bench.step();
   const std::uint64_t latch = bench.clocks;
   bench.run_to_next_update();
   EXPECT_EQ(bench.clocks - 1 - latch, odoloc::rtl::OdometrySequencer::kUpdateLatencyClocks);
@@ -231,8 +239,8 @@ void check_drive(const Drive& d) {
 }
 
 TEST(OdometryKinematics, StraightDriveAtAnyHeadingBothUnits) {
-  for (const MinSelectPolicy policy : {MinSelectPolicy::kRearOnly, MinSelectPolicy::kFrontOnly,
-                                       MinSelectPolicy::kPerComponent}) {
+  for (const MinSelectPolicy policy :
+       {MinSelectPolicy::kRearOnly, MinSelectPolicy::kFrontOnly, MinSelectPolicy::kPerComponent}) {
     for (const double heading : {0.0, 30.0, 90.0, 135.0, 180.0, -120.0}) {
       check_drive({policy, heading, 1.0, 0.0, 0.1});
     }

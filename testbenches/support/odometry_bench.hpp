@@ -18,8 +18,8 @@ inline rtl::OdometryConfig odometry_config(const sw::VehicleGeometry& geometry,
                                            rtl::MinSelectPolicy policy,
                                            bool paper_min_select = false) {
   const sw::OdometryScales s = sw::odometry_scales(geometry);
-  const sw::MinSelectSetup m = paper_min_select ? sw::MinSelectSetup{0, 0, 0}
-                                                : sw::min_select_setup(geometry);
+  const sw::MinSelectSetup m =
+      paper_min_select ? sw::MinSelectSetup{0, 0, 0} : sw::min_select_setup(geometry);
   rtl::OdometryConfig c;
   c.rear_ds_scale = rtl::UInt<32>{s.rear_ds};
   c.rear_dtheta_scale = rtl::UInt<32>{s.rear_dtheta};
@@ -43,7 +43,9 @@ inline SiPose si_pose(const rtl::PoseIntegrator::Regs& p) {
           sw::heading_radians(p.theta.value())};
 }
 
-inline double angle_difference(double a, double b) { return std::remainder(a - b, 2 * M_PI); }
+inline double angle_difference(double a, double b) {
+  return std::remainder(a - b, 2 * M_PI);
+}
 
 struct OdometryBench {
   sw::VehicleGeometry geometry;
@@ -67,19 +69,24 @@ struct OdometryBench {
     in.set_pose = rtl::UInt<1>{};
   }
   void step() {
-    if (fabric.phase() == rtl::OdometryPhase::kLatch) latch_clock = clocks;
-    for (std::size_t w = 0; w < rtl::kWheelCount; ++w) in.pins[w] = sources[w].tick();
+    if (fabric.phase() == rtl::OdometryPhase::kLatch)
+      latch_clock = clocks;
+    for (std::size_t w = 0; w < rtl::kWheelCount; ++w)
+      in.pins[w] = sources[w].tick();
     fabric.step(in, cfg);
     ++clocks;
   }
   void run(std::uint64_t n) {
-    for (std::uint64_t i = 0; i < n; ++i) step();
+    for (std::uint64_t i = 0; i < n; ++i)
+      step();
   }
   // Runs until the sequencer latches, then through the update it starts.
   void run_to_next_update() {
-    while (fabric.phase() != rtl::OdometryPhase::kLatch) step();
+    while (fabric.phase() != rtl::OdometryPhase::kLatch)
+      step();
     const auto updates = fabric.sequencer().updates;
-    while (fabric.sequencer().updates == updates) step();
+    while (fabric.sequencer().updates == updates)
+      step();
   }
 
   // Turns the steering (vehicle standing) to the nearest whole steering edge

@@ -55,14 +55,17 @@ Scenario bump_scenario(BumpCase c, double metres, double heading_rad) {
       case BumpCase::kNone:
         break;
       case BumpCase::kBothRear:
-        s.disturbances = merged({s.disturbances, sim::bump_under_both_rear(at, kBumpHeight, kBumpLength)});
+        s.disturbances =
+            merged({s.disturbances, sim::bump_under_both_rear(at, kBumpHeight, kBumpLength)});
         break;
       case BumpCase::kOneRear:
-        s.disturbances = merged(
-            {s.disturbances, sim::bump_under_one_rear(sim::Wheel::kLeftRear, at, kBumpHeight, kBumpLength)});
+        s.disturbances =
+            merged({s.disturbances,
+                    sim::bump_under_one_rear(sim::Wheel::kLeftRear, at, kBumpHeight, kBumpLength)});
         break;
       case BumpCase::kFront:
-        s.disturbances = merged({s.disturbances, sim::bump_under_front(at, kBumpHeight, kBumpLength)});
+        s.disturbances =
+            merged({s.disturbances, sim::bump_under_front(at, kBumpHeight, kBumpLength)});
         break;
     }
   }
@@ -155,7 +158,8 @@ RunResult run(const Scenario& scenario, const RunOptions& options) {
     clock_once();
   }
   // Standing still: two more periods take in every edge still in flight.
-  for (std::uint64_t i = 0; i < 2 * cfg.odometry.update_clocks.value(); ++i) clock_once();
+  for (std::uint64_t i = 0; i < 2 * cfg.odometry.update_clocks.value(); ++i)
+    clock_once();
 
   result.truth = truth.pose().pose;
   result.fabric = fabric_pose(fabric.pose());

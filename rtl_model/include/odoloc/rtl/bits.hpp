@@ -41,7 +41,9 @@ constexpr std::int64_t sign_extend(std::uint64_t bits, int width) {
   const int shift = 64 - width;
   return static_cast<std::int64_t>(bits << shift) >> shift;
 }
-constexpr int max_width(int a, int b) { return a > b ? a : b; }
+constexpr int max_width(int a, int b) {
+  return a > b ? a : b;
+}
 }  // namespace detail
 
 template <int W>
@@ -66,8 +68,8 @@ class UInt {
   }
 
   template <int V>
-    requires(V <= W)
-  constexpr UInt(UInt<V> narrower) : bits_(static_cast<Storage>(narrower.value())) {}  // NOLINT
+  requires(V <= W) constexpr UInt(UInt<V> narrower)
+      : bits_(static_cast<Storage>(narrower.value())) {}  // NOLINT
 
   // Keeps the low W bits of a host integer: the explicit way to wrap.
   static constexpr UInt truncate(std::uint64_t value) {
@@ -78,7 +80,8 @@ class UInt {
 
   // The range promise lets the optimiser drop masks that cannot change a value.
   [[nodiscard]] constexpr std::uint64_t value() const {
-    if (bits_ > mask) __builtin_unreachable();
+    if (bits_ > mask)
+      __builtin_unreachable();
     return bits_;
   }
   [[nodiscard]] constexpr bool is_zero() const { return bits_ == 0; }
@@ -148,8 +151,8 @@ class SInt {
   }
 
   template <int V>
-    requires(V <= W)
-  constexpr SInt(SInt<V> narrower) : value_(static_cast<Storage>(narrower.value())) {}  // NOLINT
+  requires(V <= W) constexpr SInt(SInt<V> narrower)
+      : value_(static_cast<Storage>(narrower.value())) {}  // NOLINT
 
   // Two's complement wrap of a host integer into W bits.
   static constexpr SInt truncate(std::int64_t value) {
@@ -159,7 +162,8 @@ class SInt {
   }
 
   [[nodiscard]] constexpr std::int64_t value() const {
-    if (value_ < min_value || value_ > max_value) __builtin_unreachable();
+    if (value_ < min_value || value_ > max_value)
+      __builtin_unreachable();
     return value_;
   }
   // The W-bit two's complement pattern, zero-extended (what a waveform shows).
@@ -190,7 +194,8 @@ class SInt {
 
   template <int N>
   [[nodiscard]] constexpr SInt<W + N> shl() const {
-    return SInt<W + N>::truncate(static_cast<std::int64_t>(static_cast<std::uint64_t>(value_) << N));
+    return SInt<W + N>::truncate(
+        static_cast<std::int64_t>(static_cast<std::uint64_t>(value_) << N));
   }
   // Arithmetic shift right: rounds toward minus infinity, like the hardware.
   template <int N>
@@ -316,9 +321,11 @@ template <char... Digits>
 consteval std::uint64_t parse_decimal() {
   std::uint64_t v = 0;
   for (char c : {Digits...}) {
-    if (c < '0' || c > '9') throw std::invalid_argument("_u takes decimal digits");
+    if (c < '0' || c > '9')
+      throw std::invalid_argument("_u takes decimal digits");
     const auto digit = static_cast<std::uint64_t>(c - '0');
-    if (v > (~std::uint64_t{0} - digit) / 10) throw std::out_of_range("_u literal exceeds 64 bits");
+    if (v > (~std::uint64_t{0} - digit) / 10)
+      throw std::out_of_range("_u literal exceeds 64 bits");
     v = v * 10 + digit;
   }
   return v;

@@ -54,7 +54,8 @@ enum class Gating : bool { kOff = false, kOn = true };
 // One clock edge of a leaf block.
 template <Gating G = Gating::kOn, ClockedBlock B>
 inline void clock_block(B& block, const typename B::In& in) {
-  if (G == Gating::kOn && block.idle(in)) return;
+  if (G == Gating::kOn && block.idle(in))
+    return;
   block.commit(block.eval(in));
 }
 

@@ -21,7 +21,7 @@ class SequentialCordic {
   static constexpr unsigned kLatencyClocks = cordic::kIterations;
   struct Regs {
     cordic::State state;
-    UInt<4> iteration;     // index of the next micro-rotation
+    UInt<4> iteration;  // index of the next micro-rotation
     UInt<1> busy;
     UInt<1> ready;         // RESULT_READY
     UInt<1> load_ignored;  // sticky: LOAD arrived while busy
@@ -37,11 +37,14 @@ class SequentialCordic {
   };
 
   [[nodiscard]] Next eval(const In& in) const {
-    if (in.reset) return Regs{};
+    if (in.reset)
+      return Regs{};
     Regs n = r_;
-    if (in.clear_flags) n.load_ignored = UInt<1>{};
+    if (in.clear_flags)
+      n.load_ignored = UInt<1>{};
     if (r_.busy) {
-      if (in.load) n.load_ignored = UInt<1>{1};
+      if (in.load)
+        n.load_ignored = UInt<1>{1};
       n.state = cordic::iterate(r_.state, r_.iteration);
       n.iteration = (r_.iteration + UInt<1>{1}).wrap<4>();
       if (r_.iteration.value() == cordic::kIterations - 1) {

@@ -32,8 +32,8 @@ inline constexpr int kXyFractionBits = kOutputFractionBits + kGuardBits;
 inline constexpr int kZUnitsBits = kAngleBits + kAngleGuardBits;  // 2^22 units per turn
 
 using Angle = UInt<kAngleBits>;
-using Xy = SInt<kXyFractionBits + 2>;   // |x|, |y| <= 1 + rounding: sign, one integer bit
-using Z = SInt<kZUnitsBits - 1>;        // |z| <= 1/8 turn + atan(2^-1) < 2^20 units
+using Xy = SInt<kXyFractionBits + 2>;  // |x|, |y| <= 1 + rounding: sign, one integer bit
+using Z = SInt<kZUnitsBits - 1>;       // |z| <= 1/8 turn + atan(2^-1) < 2^20 units
 using Output = SInt<kOutputFractionBits + 2>;
 
 // ---- compile-time math (long double), so tables are generated, not typed ----
@@ -42,9 +42,11 @@ constexpr long double kPi = std::numbers::pi_v<long double>;
 // atan(2^-i) by its Taylor series; 2^-i <= 1/2 converges to long double
 // precision in under 40 terms.
 constexpr long double atan_pow2(int i) {
-  if (i == 0) return kPi / 4;
+  if (i == 0)
+    return kPi / 4;
   long double x = 1.0L;
-  for (int k = 0; k < i; ++k) x /= 2;
+  for (int k = 0; k < i; ++k)
+    x /= 2;
   const long double x2 = x * x;
   long double term = x, sum = 0.0L;
   for (int n = 0; n < 40; ++n) {
@@ -56,7 +58,8 @@ constexpr long double atan_pow2(int i) {
 
 constexpr long double sqrt_newton(long double v) {
   long double y = v > 1 ? v : 1.0L;
-  for (int k = 0; k < 60; ++k) y = (y + v / y) / 2;
+  for (int k = 0; k < 60; ++k)
+    y = (y + v / y) / 2;
   return y;
 }
 
@@ -65,7 +68,8 @@ constexpr long double gain(int first, int count) {
   long double product = 1.0L;
   for (int i = first; i < first + count; ++i) {
     long double t = 1.0L;
-    for (int k = 0; k < 2 * i; ++k) t /= 2;
+    for (int k = 0; k < 2 * i; ++k)
+      t /= 2;
     product *= 1.0L + t;
   }
   return sqrt_newton(product);
@@ -113,7 +117,8 @@ constexpr State load(Angle angle) {
   constexpr UInt<16> kEighthTurn{1U << (kAngleBits - 3)};
   const UInt<16> shifted = (angle + kEighthTurn).wrap<kAngleBits>();
   const UInt<2> quadrant = shifted.bits<kAngleBits - 1, kAngleBits - 2>();
-  const SInt<16> residual = (shifted.bits<kAngleBits - 3, 0>().to_sint() - kEighthTurn.to_sint()).wrap<16>();
+  const SInt<16> residual =
+      (shifted.bits<kAngleBits - 3, 0>().to_sint() - kEighthTurn.to_sint()).wrap<16>();
   return {kX0, Xy{}, residual.shl<kAngleGuardBits>().wrap<Z::width>(), quadrant};
 }
 
@@ -151,7 +156,8 @@ constexpr SinCos finish(const State& s) {
 // The whole computation, untimed: what the sequential unit produces.
 constexpr SinCos sincos(Angle angle) {
   State s = load(angle);
-  for (int k = 0; k < kIterations; ++k) s = iterate(s, UInt<4>::truncate(static_cast<std::uint64_t>(k)));
+  for (int k = 0; k < kIterations; ++k)
+    s = iterate(s, UInt<4>::truncate(static_cast<std::uint64_t>(k)));
   return finish(s);
 }
 

@@ -21,10 +21,12 @@ class EncoderFabric {
   // The EPPMs share no signal, so clocking them one after another is one edge.
   template <Gating G = Gating::kOn>
   [[gnu::flatten]] void step(const Inputs& in, const Configs& cfg) {
-    for (std::size_t w = 0; w < kWheelCount; ++w) eppm_[w].step<G>(in[w], cfg[w]);
+    for (std::size_t w = 0; w < kWheelCount; ++w)
+      eppm_[w].step<G>(in[w], cfg[w]);
   }
   void reset_now() {
-    for (auto& e : eppm_) e.reset_now();
+    for (auto& e : eppm_)
+      e.reset_now();
   }
 
   [[nodiscard]] const Eppm& eppm(Wheel w) const { return eppm_[static_cast<std::size_t>(w)]; }

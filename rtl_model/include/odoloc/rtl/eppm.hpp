@@ -31,7 +31,7 @@ struct EppmConfig {
   UInt<16> prescale{49};           // one reference tick every prescale+1 clocks (1 MHz)
   UInt<23> to_period_below{25};    // auto: pulse -> period when |edges per window| < this
   UInt<23> to_pulse_at{40};        // auto: period -> pulse when |edges per window| >= this
-  UInt<23> stall_ticks{50'000};   // stalled after this many ticks without an edge; 0: never
+  UInt<23> stall_ticks{50'000};    // stalled after this many ticks without an edge; 0: never
 };
 
 struct EppmInputs {
@@ -59,9 +59,12 @@ class InputConditioner {
   };
 
   [[nodiscard]] Next eval(const In& in) const {
-    if (in.reset) return Regs{};
-    const Channel a = filter(r_.sync2.bit<1>(), r_.filtered.bit<1>(), r_.stable_a, in.filter_clocks);
-    const Channel b = filter(r_.sync2.bit<0>(), r_.filtered.bit<0>(), r_.stable_b, in.filter_clocks);
+    if (in.reset)
+      return Regs{};
+    const Channel a =
+        filter(r_.sync2.bit<1>(), r_.filtered.bit<1>(), r_.stable_a, in.filter_clocks);
+    const Channel b =
+        filter(r_.sync2.bit<0>(), r_.filtered.bit<0>(), r_.stable_b, in.filter_clocks);
     return {in.pins, r_.sync1, cat(a.level, b.level), a.stable, b.stable};
   }
   [[nodiscard]] bool idle(const In& in) const {
@@ -88,9 +91,11 @@ class InputConditioner {
   };
   // Takes the new level on the N-th consecutive differing sample (N <= 1: the first).
   static Channel filter(UInt<1> in, UInt<1> level, UInt<8> stable, UInt<8> n) {
-    if (in == level) return {level, UInt<8>{}};
+    if (in == level)
+      return {level, UInt<8>{}};
     const UInt<9> seen = stable + UInt<1>{1};
-    if (seen >= n) return {in, UInt<8>{}};
+    if (seen >= n)
+      return {in, UInt<8>{}};
     return {level, seen.wrap<8>()};  // seen < n <= 255
   }
   Regs r_;
@@ -147,11 +152,13 @@ class QuadratureDecoder {
   }
 
   [[nodiscard]] Next eval(const In& in) const {
-    if (in.reset) return Regs{};
+    if (in.reset)
+      return Regs{};
     const QuadTransition t = transition(in.filtered);
     Regs n = r_;
     n.prev = in.filtered;
-    if (t.count[0] != 0) n.direction = UInt<1>::truncate(t.count[0] > 0);
+    if (t.count[0] != 0)
+      n.direction = UInt<1>::truncate(t.count[0] > 0);
     if (in.clear_flags) {
       n.phase_error = UInt<1>{};
       n.error_count = UInt<16>{};
@@ -190,10 +197,10 @@ class PositionCounter {
   static constexpr int kWidth = 20;
   using Count = SInt<kWidth>;
   struct Regs {
-    Count count;    // edges since the last latch-and-clear, two's complement wrap
-    Count latched;  // captured by the last latch-and-clear
-    UInt<1> carry;  // sticky: counted up past +2^19-1
-    UInt<1> borrow; // sticky: counted down past -2^19
+    Count count;     // edges since the last latch-and-clear, two's complement wrap
+    Count latched;   // captured by the last latch-and-clear
+    UInt<1> carry;   // sticky: counted up past +2^19-1
+    UInt<1> borrow;  // sticky: counted down past -2^19
     bool operator==(const Regs&) const = default;
   };
   using Next = Regs;
@@ -207,17 +214,21 @@ class PositionCounter {
   // The clearing clock's own edge goes into the latched value and the count
   // restarts at 0, so no edge is lost or counted twice.
   [[nodiscard]] Next eval(const In& in) const {
-    if (in.reset) return Regs{};
+    if (in.reset)
+      return Regs{};
     Regs n = r_;
     const Count sum = (r_.count + in.step).wrap<kWidth>();
     if (in.clear_flags) {
       n.carry = UInt<1>{};
       n.borrow = UInt<1>{};
     }
-    if (in.step.value() > 0 && r_.count.value() == Count::max_value) n.carry = UInt<1>{1};
-    if (in.step.value() < 0 && r_.count.value() == Count::min_value) n.borrow = UInt<1>{1};
+    if (in.step.value() > 0 && r_.count.value() == Count::max_value)
+      n.carry = UInt<1>{1};
+    if (in.step.value() < 0 && r_.count.value() == Count::min_value)
+      n.borrow = UInt<1>{1};
     n.count = in.latch_clear ? Count{} : sum;
-    if (in.latch_clear) n.latched = sum;
+    if (in.latch_clear)
+      n.latched = sum;
     return n;
   }
   [[nodiscard]] bool idle(const In& in) const {
@@ -263,7 +274,8 @@ class SpeedTimebase {
   [[nodiscard]] bool tick(UInt<16> prescale) const { return r_.prescale_count >= prescale; }
 
   [[nodiscard]] Next eval(const In& in) const {
-    if (in.reset) return Regs{};
+    if (in.reset)
+      return Regs{};
     return {window_end(in.window_clocks) ? UInt<23>{} : (r_.window_count + UInt<1>{1}).wrap<23>(),
             tick(in.prescale) ? UInt<16>{} : (r_.prescale_count + UInt<1>{1}).wrap<16>()};
   }
@@ -287,10 +299,10 @@ class SpeedTimebase {
 class PulseMeter {
  public:
   struct Regs {
-    SInt<24> acc;      // signed edges in the current window; |acc| <= T < 2^23
-    SInt<24> last;     // edges in the last complete window
-    UInt<1> mode;      // SpeedMode
-    UInt<1> sampled;   // strobe: `last` was updated at this edge
+    SInt<24> acc;     // signed edges in the current window; |acc| <= T < 2^23
+    SInt<24> last;    // edges in the last complete window
+    UInt<1> mode;     // SpeedMode
+    UInt<1> sampled;  // strobe: `last` was updated at this edge
     bool operator==(const Regs&) const = default;
   };
   using Next = Regs;
@@ -305,9 +317,11 @@ class PulseMeter {
 
   // An edge in the window's last clock still belongs to the closing window.
   [[nodiscard]] Next eval(const In& in) const {
-    if (in.reset) return Regs{};
+    if (in.reset)
+      return Regs{};
     const SInt<24> acc = (r_.acc + in.step).wrap<24>();
-    if (!in.window_end) return {acc, r_.last, next_mode(in, acc), UInt<1>{}};
+    if (!in.window_end)
+      return {acc, r_.last, next_mode(in, acc), UInt<1>{}};
     return {SInt<24>{}, acc, next_mode(in, acc), UInt<1>{1}};
   }
   [[nodiscard]] bool idle(const In& in) const {
@@ -332,7 +346,8 @@ class PulseMeter {
   [[nodiscard]] UInt<1> next_mode(const In& in, SInt<24> window_edges) const {
     constexpr UInt<1> kPulse{static_cast<std::uint8_t>(SpeedMode::kPulse)};
     constexpr UInt<1> kPeriod{static_cast<std::uint8_t>(SpeedMode::kPeriod)};
-    if (!in.window_end) return r_.mode;
+    if (!in.window_end)
+      return r_.mode;
     switch (static_cast<SpeedModeSelect>(in.select.value())) {
       case SpeedModeSelect::kPulse:
         return kPulse;
@@ -342,8 +357,10 @@ class PulseMeter {
         break;
     }
     const UInt<24> magnitude = window_edges.abs();
-    if (r_.mode == kPulse && magnitude < in.to_period_below) return kPeriod;
-    if (r_.mode == kPeriod && magnitude >= in.to_pulse_at) return kPulse;
+    if (r_.mode == kPulse && magnitude < in.to_period_below)
+      return kPeriod;
+    if (r_.mode == kPeriod && magnitude >= in.to_pulse_at)
+      return kPulse;
     return r_.mode;
   }
   Regs r_;
@@ -356,13 +373,13 @@ class PeriodMeter {
   static constexpr int kWidth = 23;
   using Ticks = UInt<kWidth>;
   struct Regs {
-    Ticks count;         // ticks since the last edge, saturating
-    Ticks last;          // ticks between the last two edges
-    UInt<1> valid;       // `last` spans two same-direction edges, not stalled, not saturated
-    UInt<1> armed;       // an edge has started the running measurement
-    UInt<1> last_dir;    // direction of the last edge: 1 forward
-    UInt<1> overflow;    // sticky: `count` saturated
-    UInt<1> sampled;     // strobe: `last` was updated at this edge
+    Ticks count;       // ticks since the last edge, saturating
+    Ticks last;        // ticks between the last two edges
+    UInt<1> valid;     // `last` spans two same-direction edges, not stalled, not saturated
+    UInt<1> armed;     // an edge has started the running measurement
+    UInt<1> last_dir;  // direction of the last edge: 1 forward
+    UInt<1> overflow;  // sticky: `count` saturated
+    UInt<1> sampled;   // strobe: `last` was updated at this edge
     bool operator==(const Regs&) const = default;
   };
   using Next = Regs;
@@ -379,14 +396,17 @@ class PeriodMeter {
   }
 
   [[nodiscard]] Next eval(const In& in) const {
-    if (in.reset) return Regs{};
+    if (in.reset)
+      return Regs{};
     Regs n = r_;
     n.sampled = UInt<1>::truncate(!in.step.is_zero());
-    if (in.clear_flags) n.overflow = UInt<1>{};
+    if (in.clear_flags)
+      n.overflow = UInt<1>{};
     const UInt<1> tick = UInt<1>::truncate(in.tick);
     if (in.step.is_zero()) {
       const UInt<24> ticks = r_.count + tick;
-      if (ticks.bit<kWidth>()) n.overflow = UInt<1>{1};
+      if (ticks.bit<kWidth>())
+        n.overflow = UInt<1>{1};
       n.count = ticks.sat<kWidth>();
       return n;
     }
@@ -533,7 +553,7 @@ class Eppm {
     v.leave();
   }
 
-  EppmInputs ports_;     // the inputs of the last clock, for waveforms
+  EppmInputs ports_;      // the inputs of the last clock, for waveforms
   bool settled_ = false;  // simulator bookkeeping, not a register: settled() after the last clock
   InputConditioner conditioner_;
   QuadratureDecoder decoder_;

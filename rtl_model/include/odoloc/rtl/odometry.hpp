@@ -37,9 +37,9 @@ struct OdometryConfig {
   UInt<32> steer_scale;           // steering turns per steering count, 2^-40 turn
   UInt<32> steer_limit{477'218'588};  // |phi| limit, 2^-32 turn (40 degrees); at most 1/4 turn
   UInt<2> policy{static_cast<std::uint8_t>(MinSelectPolicy::kPerComponent)};
-  UInt<4> select_shift;             // min-select memory: 2^shift updates; 0: the paper's
-  UInt<32> select_ds_threshold;     // front wins ds when the rear leads by more, 2^-32 m
-  UInt<32> select_dtheta_threshold; // front wins dtheta likewise, 2^-40 turn
+  UInt<4> select_shift;              // min-select memory: 2^shift updates; 0: the paper's
+  UInt<32> select_ds_threshold;      // front wins ds when the rear leads by more, 2^-32 m
+  UInt<32> select_dtheta_threshold;  // front wins dtheta likewise, 2^-40 turn
 };
 
 using Distance = SInt<48>;  // 2^-32 m
@@ -68,8 +68,10 @@ class RearOdometryUnit {
   };
 
   [[nodiscard]] Regs eval(const In& in) const {
-    if (in.reset) return Regs{};
-    if (!in.start) return r_;
+    if (in.reset)
+      return Regs{};
+    if (!in.start)
+      return r_;
     // |products| < 2^53 at 2^-40; the 2^-32 m rounding is the only loss.
     return {round_shr<8>((in.n_left + in.n_right) * in.ds_scale.to_sint()).wrap<Distance::width>(),
             ((in.n_right - in.n_left) * in.dtheta_scale.to_sint()).wrap<Heading::width>()};
@@ -117,16 +119,19 @@ class FrontOdometryUnit {
   };
 
   [[nodiscard]] Regs eval(const In& in) const {
-    if (in.reset) return Regs{};
+    if (in.reset)
+      return Regs{};
     Regs n = r_;
-    if (in.clear_flags) n.clamp_flag = UInt<1>{};
+    if (in.clear_flags)
+      n.clamp_flag = UInt<1>{};
     if (in.start) {
       n.steer_position = (r_.steer_position + in.n_steer).sat<24>();
       const SInt<58> raw = n.steer_position * in.steer_scale.to_sint();
       const SInt<41> limit = in.steer_limit.shl<8>().to_sint();  // <= 2^38 (1/4 turn)
       const bool above = raw > limit, below = raw < -limit;
       n.clamped = UInt<1>::truncate(above || below);
-      if (n.clamped) n.clamp_flag = UInt<1>{1};
+      if (n.clamped)
+        n.clamp_flag = UInt<1>{1};
       n.phi_prev = r_.phi;
       n.phi = (above ? SInt<58>{limit} : below ? SInt<58>{-limit} : raw).wrap<Steer::width>();
       n.drive = round_shr<8>(in.n_front * in.ds_scale.to_sint());
@@ -203,14 +208,17 @@ class MinSelect {
   };
 
   [[nodiscard]] Regs eval(const In& in) const {
-    if (in.reset) return Regs{};
-    if (!in.select) return r_;
+    if (in.reset)
+      return Regs{};
+    if (!in.select)
+      return r_;
     Regs n = r_;
     n.rear_ds_sum = leak(r_.rear_ds_sum, in.rear.ds, in.shift);
     n.front_ds_sum = leak(r_.front_ds_sum, in.front_ds, in.shift);
     n.rear_dtheta_sum = leak(r_.rear_dtheta_sum, in.rear.dtheta, in.shift);
     n.front_dtheta_sum = leak(r_.front_dtheta_sum, in.front_dtheta, in.shift);
-    const bool front_ds = front_wins(r_.ds_from_front, n.rear_ds_sum, n.front_ds_sum, in.ds_threshold);
+    const bool front_ds =
+        front_wins(r_.ds_from_front, n.rear_ds_sum, n.front_ds_sum, in.ds_threshold);
     const bool front_dtheta = front_wins(r_.dtheta_from_front, n.rear_dtheta_sum,
                                          n.front_dtheta_sum, in.dtheta_threshold);
     bool ds_front = false, dtheta_front = false;
@@ -273,8 +281,8 @@ class MinSelect {
 class PoseIntegrator {
  public:
   struct Regs {
-    SInt<64> x, y;  // 2^-46 m
-    UInt<40> theta; // 2^-40 turn
+    SInt<64> x, y;   // 2^-46 m
+    UInt<40> theta;  // 2^-40 turn
     bool operator==(const Regs&) const = default;
   };
   struct In {
@@ -288,9 +296,12 @@ class PoseIntegrator {
   };
 
   [[nodiscard]] Regs eval(const In& in) const {
-    if (in.reset) return Regs{};
-    if (in.set_pose) return in.new_pose;
-    if (!in.integrate) return r_;
+    if (in.reset)
+      return Regs{};
+    if (in.set_pose)
+      return in.new_pose;
+    if (!in.integrate)
+      return r_;
     return {add_wrap(r_.x, in.ds * in.heading_sincos.cos),
             add_wrap(r_.y, in.ds * in.heading_sincos.sin),
             (r_.theta.to_sint() + in.dtheta).wrap<40>().as_uint()};
@@ -346,8 +357,8 @@ class OdometrySequencer {
   struct Regs {
     UInt<4> phase;
     UInt<16> period_count;
-    UInt<32> updates;   // completed pose updates
-    UInt<1> overrun;    // sticky: a period ended before the update finished
+    UInt<32> updates;  // completed pose updates
+    UInt<1> overrun;   // sticky: a period ended before the update finished
     bool operator==(const Regs&) const = default;
   };
   struct In {
@@ -357,21 +368,28 @@ class OdometrySequencer {
   };
 
   [[nodiscard]] Regs eval(const In& in) const {
-    if (in.reset) return Regs{};
+    if (in.reset)
+      return Regs{};
     Regs n = r_;
-    if (in.clear_flags) n.overrun = UInt<1>{};
-    const bool period_end = !in.update_clocks.is_zero() && r_.period_count + UInt<1>{1} >= in.update_clocks;
+    if (in.clear_flags)
+      n.overrun = UInt<1>{};
+    const bool period_end =
+        !in.update_clocks.is_zero() && r_.period_count + UInt<1>{1} >= in.update_clocks;
     n.period_count = period_end ? UInt<16>{} : (r_.period_count + UInt<1>{1}).wrap<16>();
-    if (period_end && phase() != OdometryPhase::kIdle) n.overrun = UInt<1>{1};
+    if (period_end && phase() != OdometryPhase::kIdle)
+      n.overrun = UInt<1>{1};
     switch (phase()) {
       case OdometryPhase::kIdle:
-        if (period_end) n.phase = encode(OdometryPhase::kLatch);
+        if (period_end)
+          n.phase = encode(OdometryPhase::kLatch);
         break;
       case OdometryPhase::kPhiWait:
-        if (in.cordic_ready) n.phase = encode(OdometryPhase::kFront);
+        if (in.cordic_ready)
+          n.phase = encode(OdometryPhase::kFront);
         break;
       case OdometryPhase::kThetaWait:
-        if (in.cordic_ready) n.phase = encode(OdometryPhase::kIntegrate);
+        if (in.cordic_ready)
+          n.phase = encode(OdometryPhase::kIntegrate);
         break;
       case OdometryPhase::kIntegrate:
         n.phase = encode(OdometryPhase::kIdle);

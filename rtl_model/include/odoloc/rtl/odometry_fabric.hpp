@@ -28,8 +28,8 @@ class OdometryFabric {
   template <Gating G = Gating::kOn>
   [[gnu::flatten]] void step(const Inputs& in, const OdometryFabricConfig& cfg) {
     const OdometryConfig& oc = cfg.odometry;
-    const OdometrySequencer::In sequencer_in{oc.update_clocks, cordic_.regs().ready,
-                                             in.clear_flags, in.reset};
+    const OdometrySequencer::In sequencer_in{oc.update_clocks, cordic_.regs().ready, in.clear_flags,
+                                             in.reset};
     // Between updates (the common case) only the EPPMs and the period
     // counter move: the CORDIC and every unit are idle.
     if (G == Gating::kOn && sequencer_.in(OdometryPhase::kIdle) &&
@@ -52,16 +52,15 @@ class OdometryFabric {
     clock_block<G>(cordic_, {phi_load | theta_load, cordic_angle, in.clear_flags, in.reset});
     clock_block<G>(rear_, {gather, latched(Wheel::kLeftRear), latched(Wheel::kRightRear),
                            oc.rear_ds_scale, oc.rear_dtheta_scale, in.reset});
-    clock_block<G>(front_, {gather, bit(sequencer_.in(OdometryPhase::kFront)),
-                            latched(Wheel::kFrontDrive), latched(Wheel::kSteering), sincos,
-                            oc.front_ds_scale, oc.front_dtheta_scale, oc.steer_scale,
-                            oc.steer_limit, in.clear_flags, in.reset});
+    clock_block<G>(front_,
+                   {gather, bit(sequencer_.in(OdometryPhase::kFront)), latched(Wheel::kFrontDrive),
+                    latched(Wheel::kSteering), sincos, oc.front_ds_scale, oc.front_dtheta_scale,
+                    oc.steer_scale, oc.steer_limit, in.clear_flags, in.reset});
     clock_block<G>(select_, {bit(sequencer_.in(OdometryPhase::kSelect)), rear_.regs(),
                              front_.regs().ds, front_.regs().dtheta, oc.policy, oc.select_shift,
                              oc.select_ds_threshold, oc.select_dtheta_threshold, in.reset});
     clock_block<G>(integrator_, {bit(sequencer_.in(OdometryPhase::kIntegrate)), select_.regs().ds,
-                                 select_.regs().dtheta, sincos, in.set_pose, in.pose,
-                                 in.reset});
+                                 select_.regs().dtheta, sincos, in.set_pose, in.pose, in.reset});
   }
 
   void reset_now() {

@@ -67,7 +67,8 @@ inline SwitchThresholds switch_thresholds(const SpeedTiming& timing, double band
 // Speed word (signed value + mode bit) to metres per second.
 inline double speed_mps(std::int32_t value, bool pulse_mode, const EncoderGeometry& geometry,
                         const SpeedTiming& timing) {
-  if (value == 0) return 0.0;
+  if (value == 0)
+    return 0.0;
   const double dp = geometry.metres_per_edge();
   return pulse_mode ? value * dp / timing.window_s() : dp * timing.reference_hz() / value;
 }

@@ -84,18 +84,22 @@ inline MinSelectSetup min_select_setup(const VehicleGeometry& g, std::uint8_t sh
   const double kappa_rear = g.rear.metres_per_edge();
   const double kappa_front = g.front.metres_per_edge();
   const double heading_rad = 2 * kappa_rear / g.rear_track_m + kappa_front / g.wheelbase_m;
-  return {shift, detail::to_register(margin * (kappa_rear + kappa_front), 32, "ds_threshold"),
-          detail::to_register(margin * heading_rad / (2.0 * std::numbers::pi), 40,
-                              "dtheta_threshold")};
+  return {
+      shift, detail::to_register(margin * (kappa_rear + kappa_front), 32, "ds_threshold"),
+      detail::to_register(margin * heading_rad / (2.0 * std::numbers::pi), 40, "dtheta_threshold")};
 }
 
 // Pose registers to SI: x, y in 2^-46 m; theta a 40-bit binary angle.
-inline double pose_metres(std::int64_t raw) { return std::ldexp(static_cast<double>(raw), -46); }
+inline double pose_metres(std::int64_t raw) {
+  return std::ldexp(static_cast<double>(raw), -46);
+}
 inline double heading_radians(std::uint64_t theta40) {
   const double turns = std::ldexp(static_cast<double>(theta40 & ((1ULL << 40) - 1)), -40);
   return 2.0 * std::numbers::pi * (turns >= 0.5 ? turns - 1.0 : turns);
 }
-inline std::int64_t metres_to_pose(double metres) { return std::llround(std::ldexp(metres, 46)); }
+inline std::int64_t metres_to_pose(double metres) {
+  return std::llround(std::ldexp(metres, 46));
+}
 inline std::uint64_t radians_to_heading(double rad) {
   const double turns = rad / (2.0 * std::numbers::pi);
   const double wrapped = turns - std::floor(turns);

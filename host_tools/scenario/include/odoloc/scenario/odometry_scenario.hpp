@@ -52,13 +52,13 @@ struct RunResult {
   double distance_m;  // rear-midpoint path length
   std::uint64_t clocks;
   std::uint64_t updates;
-  std::uint64_t front_wins_ds;  // updates whose distance came from the front unit
+  std::uint64_t front_wins_ds;   // updates whose distance came from the front unit
   std::vector<PosePoint> track;  // every `record_every_clocks`
 };
 
 struct RunOptions {
   rtl::MinSelectPolicy policy = rtl::MinSelectPolicy::kPerComponent;
-  bool paper_min_select = false;         // the memoryless rule instead of the leaky one
+  bool paper_min_select = false;          // the memoryless rule instead of the leaky one
   std::uint64_t record_every_clocks = 0;  // 0: no track
 };
 

@@ -18,9 +18,12 @@ class QuadratureSource {
   QuadratureSource() = default;
   explicit QuadratureSource(double edges_per_clock) { set_rate(edges_per_clock); }
   void set_rate(double edges_per_clock) {
-    increment_ = static_cast<std::int64_t>(std::llround(std::ldexp(edges_per_clock, kFractionBits)));
+    increment_ =
+        static_cast<std::int64_t>(std::llround(std::ldexp(edges_per_clock, kFractionBits)));
   }
-  [[nodiscard]] double rate() const { return std::ldexp(static_cast<double>(increment_), -kFractionBits); }
+  [[nodiscard]] double rate() const {
+    return std::ldexp(static_cast<double>(increment_), -kFractionBits);
+  }
 
   // Advances one clock; returns A/B packed with A in bit 1.
   rtl::UInt<2> tick() {
