@@ -7,32 +7,11 @@
 #include <cstdint>
 
 #include "odoloc/rtl/odometry_fabric.hpp"
+#include "odoloc/scenario/odometry_scenario.hpp"
 #include "odoloc/sim/quadrature_source.hpp"
 #include "odoloc/sw/odometry_setup.hpp"
 
 namespace odoloc::tb {
-
-// The vehicle's scales; min-select tuned by sw::min_select_setup unless
-// `paper_min_select` asks for the paper's memoryless rule.
-inline rtl::OdometryConfig odometry_config(const sw::VehicleGeometry& geometry,
-                                           rtl::MinSelectPolicy policy,
-                                           bool paper_min_select = false) {
-  const sw::OdometryScales s = sw::odometry_scales(geometry);
-  const sw::MinSelectSetup m =
-      paper_min_select ? sw::MinSelectSetup{0, 0, 0} : sw::min_select_setup(geometry);
-  rtl::OdometryConfig c;
-  c.rear_ds_scale = rtl::UInt<32>{s.rear_ds};
-  c.rear_dtheta_scale = rtl::UInt<32>{s.rear_dtheta};
-  c.front_ds_scale = rtl::UInt<32>{s.front_ds};
-  c.front_dtheta_scale = rtl::UInt<32>{s.front_dtheta};
-  c.steer_scale = rtl::UInt<32>{s.steer};
-  c.steer_limit = rtl::UInt<32>{s.steer_limit};
-  c.policy = rtl::UInt<2>{static_cast<unsigned>(policy)};
-  c.select_shift = rtl::UInt<4>{m.shift};
-  c.select_ds_threshold = rtl::UInt<32>{m.ds_threshold};
-  c.select_dtheta_threshold = rtl::UInt<32>{m.dtheta_threshold};
-  return c;
-}
 
 struct SiPose {
   double x, y, theta;
@@ -58,7 +37,7 @@ struct OdometryBench {
 
   explicit OdometryBench(rtl::MinSelectPolicy policy = rtl::MinSelectPolicy::kPerComponent,
                          bool paper_min_select = false) {
-    cfg.odometry = odometry_config(geometry, policy, paper_min_select);
+    cfg.odometry = scenario::odometry_config(geometry, policy, paper_min_select);
   }
 
   void set_pose(const SiPose& p) {

@@ -100,14 +100,12 @@ sw::VehicleGeometry nominal_geometry(const sim::Geometry& g) {
   return v;
 }
 
-rtl::OdometryFabricConfig fabric_config(const sim::Geometry& g, rtl::MinSelectPolicy policy,
-                                        bool paper_min_select) {
-  const sw::VehicleGeometry v = nominal_geometry(g);
+rtl::OdometryConfig odometry_config(const sw::VehicleGeometry& v, rtl::MinSelectPolicy policy,
+                                    bool paper_min_select) {
   const sw::OdometryScales s = sw::odometry_scales(v);
   const sw::MinSelectSetup m =
       paper_min_select ? sw::MinSelectSetup{0, 0, 0} : sw::min_select_setup(v);
-  rtl::OdometryFabricConfig cfg;
-  auto& o = cfg.odometry;
+  rtl::OdometryConfig o;
   o.rear_ds_scale = rtl::UInt<32>{s.rear_ds};
   o.rear_dtheta_scale = rtl::UInt<32>{s.rear_dtheta};
   o.front_ds_scale = rtl::UInt<32>{s.front_ds};
@@ -118,7 +116,7 @@ rtl::OdometryFabricConfig fabric_config(const sim::Geometry& g, rtl::MinSelectPo
   o.select_shift = rtl::UInt<4>{m.shift};
   o.select_ds_threshold = rtl::UInt<32>{m.ds_threshold};
   o.select_dtheta_threshold = rtl::UInt<32>{m.dtheta_threshold};
-  return cfg;
+  return o;
 }
 
 RunResult run(const Scenario& scenario, const RunOptions& options) {
@@ -126,8 +124,9 @@ RunResult run(const Scenario& scenario, const RunOptions& options) {
   sim_options.start = scenario.start;
   sim::TricycleSimulator truth(scenario.geometry, scenario.path, scenario.disturbances,
                                sim_options);
-  const rtl::OdometryFabricConfig cfg =
-      fabric_config(scenario.geometry, options.policy, options.paper_min_select);
+  rtl::OdometryFabricConfig cfg;
+  cfg.odometry = odometry_config(nominal_geometry(scenario.geometry), options.policy,
+                                 options.paper_min_select);
   rtl::OdometryFabric fabric;
   rtl::OdometryFabric::Inputs in{};
   in.set_pose = rtl::UInt<1>{1};

@@ -49,6 +49,28 @@ concept ClockedBlock = requires(B b, const B cb, const typename B::In& in,
   { cb.regs() } -> std::same_as<const typename B::Regs&>;
 };
 
+// The register half every leaf block shares: its Regs, the clock edge, the
+// testbench reset and read access. The block adds In, eval, idle and trace.
+template <class R>
+class Registers {
+ public:
+  using Regs = R;
+  void commit(const Regs& next) { r_ = next; }
+  void reset_now() { r_ = Regs{}; }
+  [[nodiscard]] const Regs& regs() const { return r_; }
+
+ protected:
+  Regs r_;
+};
+
+// Names a child's registers inside a scope of the waveform.
+template <class V, class Child>
+void trace_scope(V& v, std::string_view name, const Child& child) {
+  v.enter(name);
+  child.trace(v);
+  v.leave();
+}
+
 enum class Gating : bool { kOff = false, kOn = true };
 
 // One clock edge of a leaf block.

@@ -16,19 +16,19 @@
 
 namespace odoloc::rtl {
 
-class SequentialCordic {
+struct SequentialCordicRegs {
+  cordic::State state;
+  UInt<4> iteration;  // index of the next micro-rotation
+  UInt<1> busy;
+  UInt<1> ready;         // RESULT_READY
+  UInt<1> load_ignored;  // sticky: LOAD arrived while busy
+  cordic::SinCos result;
+  bool operator==(const SequentialCordicRegs&) const = default;
+};
+
+class SequentialCordic : public Registers<SequentialCordicRegs> {
  public:
   static constexpr unsigned kLatencyClocks = cordic::kIterations;
-  struct Regs {
-    cordic::State state;
-    UInt<4> iteration;  // index of the next micro-rotation
-    UInt<1> busy;
-    UInt<1> ready;         // RESULT_READY
-    UInt<1> load_ignored;  // sticky: LOAD arrived while busy
-    cordic::SinCos result;
-    bool operator==(const Regs&) const = default;
-  };
-  using Next = Regs;
   struct In {
     UInt<1> load;
     cordic::Angle angle;
@@ -36,7 +36,7 @@ class SequentialCordic {
     UInt<1> reset;
   };
 
-  [[nodiscard]] Next eval(const In& in) const {
+  [[nodiscard]] Regs eval(const In& in) const {
     if (in.reset)
       return Regs{};
     Regs n = r_;
@@ -63,9 +63,6 @@ class SequentialCordic {
   [[nodiscard]] bool idle(const In& in) const {
     return (r_.busy | in.load | in.clear_flags | in.reset).is_zero();
   }
-  void commit(const Next& n) { r_ = n; }
-  void reset_now() { r_ = Regs{}; }
-  [[nodiscard]] const Regs& regs() const { return r_; }
 
   template <class V>
   void trace(V& v) const {
@@ -80,9 +77,6 @@ class SequentialCordic {
     v.signal("sin", r_.result.sin);
     v.signal("cos", r_.result.cos);
   }
-
- private:
-  Regs r_;
 };
 
 }  // namespace odoloc::rtl

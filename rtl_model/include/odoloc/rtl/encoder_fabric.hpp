@@ -33,11 +33,8 @@ class EncoderFabric {
 
   template <class V>
   void trace(V& v) const {
-    for (std::size_t w = 0; w < kWheelCount; ++w) {
-      v.enter(kWheelNames[w]);
-      eppm_[w].trace(v);
-      v.leave();
-    }
+    for (std::size_t w = 0; w < kWheelCount; ++w)
+      trace_scope(v, kWheelNames[w], eppm_[w]);
   }
 
  private:

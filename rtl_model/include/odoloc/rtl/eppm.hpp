@@ -44,21 +44,21 @@ struct EppmInputs {
 // ---- input conditioning -------------------------------------------------------
 // Per channel: two synchroniser flops, then a level filter. A/B travel packed
 // as a 2-bit value, A in bit 1.
-class InputConditioner {
+struct InputConditionerRegs {
+  UInt<2> sync1, sync2, filtered;
+  UInt<8> stable_a, stable_b;  // consecutive samples the level has differed from `filtered`
+  bool operator==(const InputConditionerRegs&) const = default;
+};
+
+class InputConditioner : public Registers<InputConditionerRegs> {
  public:
-  struct Regs {
-    UInt<2> sync1, sync2, filtered;
-    UInt<8> stable_a, stable_b;  // consecutive samples the level has differed from `filtered`
-    bool operator==(const Regs&) const = default;
-  };
-  using Next = Regs;
   struct In {
     UInt<2> pins;
     UInt<8> filter_clocks;
     UInt<1> reset;
   };
 
-  [[nodiscard]] Next eval(const In& in) const {
+  [[nodiscard]] Regs eval(const In& in) const {
     if (in.reset)
       return Regs{};
     const Channel a =
@@ -71,9 +71,6 @@ class InputConditioner {
     return in.pins == r_.sync1 && r_.sync1 == r_.sync2 && r_.sync2 == r_.filtered &&
            (r_.stable_a | r_.stable_b | in.reset).is_zero();
   }
-  void commit(const Next& n) { r_ = n; }
-  void reset_now() { r_ = Regs{}; }
-  [[nodiscard]] const Regs& regs() const { return r_; }
 
   template <class V>
   void trace(V& v) const {
@@ -98,7 +95,6 @@ class InputConditioner {
       return {in, UInt<8>{}};
     return {level, seen.wrap<8>()};  // seen < n <= 255
   }
-  Regs r_;
 };
 
 // ---- quadrature decoder -----------------------------------------------------
@@ -129,17 +125,17 @@ constexpr std::array<QuadTransition, 16> make_quadrature_table() {
   return table;
 }
 
-class QuadratureDecoder {
+struct QuadratureDecoderRegs {
+  UInt<2> prev;          // filtered A/B one clock earlier
+  UInt<1> direction;     // direction of the last legal step: 1 forward (A leads B)
+  UInt<1> phase_error;   // sticky: A and B changed in the same sample
+  UInt<16> error_count;  // illegal transitions, saturating
+  bool operator==(const QuadratureDecoderRegs&) const = default;
+};
+
+class QuadratureDecoder : public Registers<QuadratureDecoderRegs> {
  public:
   static constexpr std::array<QuadTransition, 16> kTable = make_quadrature_table();
-  struct Regs {
-    UInt<2> prev;          // filtered A/B one clock earlier
-    UInt<1> direction;     // direction of the last legal step: 1 forward (A leads B)
-    UInt<1> phase_error;   // sticky: A and B changed in the same sample
-    UInt<16> error_count;  // illegal transitions, saturating
-    bool operator==(const Regs&) const = default;
-  };
-  using Next = Regs;
   struct In {
     UInt<2> filtered;
     UInt<1> clear_flags;
@@ -151,7 +147,7 @@ class QuadratureDecoder {
     return SInt<2>::truncate(transition(filtered).count[decode_mode.value()]);
   }
 
-  [[nodiscard]] Next eval(const In& in) const {
+  [[nodiscard]] Regs eval(const In& in) const {
     if (in.reset)
       return Regs{};
     const QuadTransition t = transition(in.filtered);
@@ -172,9 +168,6 @@ class QuadratureDecoder {
   [[nodiscard]] bool idle(const In& in) const {
     return in.filtered == r_.prev && (in.clear_flags | in.reset).is_zero();
   }
-  void commit(const Next& n) { r_ = n; }
-  void reset_now() { r_ = Regs{}; }
-  [[nodiscard]] const Regs& regs() const { return r_; }
 
   template <class V>
   void trace(V& v) const {
@@ -188,22 +181,22 @@ class QuadratureDecoder {
   [[nodiscard]] const QuadTransition& transition(UInt<2> curr) const {
     return kTable[static_cast<std::size_t>(cat(r_.prev, curr).value())];
   }
-  Regs r_;
 };
 
 // ---- position counter ---------------------------------------------------------
-class PositionCounter {
+using PositionCount = SInt<20>;
+struct PositionCounterRegs {
+  PositionCount count;    // edges since the last latch-and-clear, two's complement wrap
+  PositionCount latched;  // captured by the last latch-and-clear
+  UInt<1> carry;          // sticky: counted up past +2^19-1
+  UInt<1> borrow;         // sticky: counted down past -2^19
+  bool operator==(const PositionCounterRegs&) const = default;
+};
+
+class PositionCounter : public Registers<PositionCounterRegs> {
  public:
-  static constexpr int kWidth = 20;
-  using Count = SInt<kWidth>;
-  struct Regs {
-    Count count;     // edges since the last latch-and-clear, two's complement wrap
-    Count latched;   // captured by the last latch-and-clear
-    UInt<1> carry;   // sticky: counted up past +2^19-1
-    UInt<1> borrow;  // sticky: counted down past -2^19
-    bool operator==(const Regs&) const = default;
-  };
-  using Next = Regs;
+  using Count = PositionCount;
+  static constexpr int kWidth = Count::width;
   struct In {
     SInt<2> step;
     UInt<1> latch_clear;
@@ -213,7 +206,7 @@ class PositionCounter {
 
   // The clearing clock's own edge goes into the latched value and the count
   // restarts at 0, so no edge is lost or counted twice.
-  [[nodiscard]] Next eval(const In& in) const {
+  [[nodiscard]] Regs eval(const In& in) const {
     if (in.reset)
       return Regs{};
     Regs n = r_;
@@ -234,9 +227,6 @@ class PositionCounter {
   [[nodiscard]] bool idle(const In& in) const {
     return in.step.is_zero() && (in.latch_clear | in.clear_flags | in.reset).is_zero();
   }
-  void commit(const Next& n) { r_ = n; }
-  void reset_now() { r_ = Regs{}; }
-  [[nodiscard]] const Regs& regs() const { return r_; }
 
   template <class V>
   void trace(V& v) const {
@@ -245,22 +235,19 @@ class PositionCounter {
     v.signal("carry", r_.carry);
     v.signal("borrow", r_.borrow);
   }
-
- private:
-  Regs r_;
 };
 
 // ---- speed measurement ------------------------------------------------------
 // Window timer for pulse mode and the prescaler that makes period mode's
 // reference clock. Free-running from reset.
-class SpeedTimebase {
+struct SpeedTimebaseRegs {
+  UInt<23> window_count;    // clocks elapsed in the current window
+  UInt<16> prescale_count;  // clocks since the last reference tick
+  bool operator==(const SpeedTimebaseRegs&) const = default;
+};
+
+class SpeedTimebase : public Registers<SpeedTimebaseRegs> {
  public:
-  struct Regs {
-    UInt<23> window_count;    // clocks elapsed in the current window
-    UInt<16> prescale_count;  // clocks since the last reference tick
-    bool operator==(const Regs&) const = default;
-  };
-  using Next = Regs;
   struct In {
     UInt<23> window_clocks;
     UInt<16> prescale;
@@ -273,39 +260,33 @@ class SpeedTimebase {
   }
   [[nodiscard]] bool tick(UInt<16> prescale) const { return r_.prescale_count >= prescale; }
 
-  [[nodiscard]] Next eval(const In& in) const {
+  [[nodiscard]] Regs eval(const In& in) const {
     if (in.reset)
       return Regs{};
     return {window_end(in.window_clocks) ? UInt<23>{} : (r_.window_count + UInt<1>{1}).wrap<23>(),
             tick(in.prescale) ? UInt<16>{} : (r_.prescale_count + UInt<1>{1}).wrap<16>()};
   }
   [[nodiscard]] bool idle(const In&) const { return false; }  // counts every clock
-  void commit(const Next& n) { r_ = n; }
-  void reset_now() { r_ = Regs{}; }
-  [[nodiscard]] const Regs& regs() const { return r_; }
 
   template <class V>
   void trace(V& v) const {
     v.signal("window_count", r_.window_count);
     v.signal("prescale_count", r_.prescale_count);
   }
-
- private:
-  Regs r_;
 };
 
 // Pulse (M) method: signed edges per window of T clocks. Owns the mode bit,
 // because the automatic switch decides on each completed window.
-class PulseMeter {
+struct PulseMeterRegs {
+  SInt<24> acc;     // signed edges in the current window; |acc| <= T < 2^23
+  SInt<24> last;    // edges in the last complete window
+  UInt<1> mode;     // SpeedMode
+  UInt<1> sampled;  // strobe: `last` was updated at this edge
+  bool operator==(const PulseMeterRegs&) const = default;
+};
+
+class PulseMeter : public Registers<PulseMeterRegs> {
  public:
-  struct Regs {
-    SInt<24> acc;     // signed edges in the current window; |acc| <= T < 2^23
-    SInt<24> last;    // edges in the last complete window
-    UInt<1> mode;     // SpeedMode
-    UInt<1> sampled;  // strobe: `last` was updated at this edge
-    bool operator==(const Regs&) const = default;
-  };
-  using Next = Regs;
   struct In {
     SInt<2> step;
     bool window_end;
@@ -316,7 +297,7 @@ class PulseMeter {
   };
 
   // An edge in the window's last clock still belongs to the closing window.
-  [[nodiscard]] Next eval(const In& in) const {
+  [[nodiscard]] Regs eval(const In& in) const {
     if (in.reset)
       return Regs{};
     const SInt<24> acc = (r_.acc + in.step).wrap<24>();
@@ -327,9 +308,6 @@ class PulseMeter {
   [[nodiscard]] bool idle(const In& in) const {
     return in.step.is_zero() && !in.window_end && (r_.sampled | in.reset).is_zero();
   }
-  void commit(const Next& n) { r_ = n; }
-  void reset_now() { r_ = Regs{}; }
-  [[nodiscard]] const Regs& regs() const { return r_; }
 
   template <class V>
   void trace(V& v) const {
@@ -363,26 +341,26 @@ class PulseMeter {
       return kPulse;
     return r_.mode;
   }
-  Regs r_;
 };
 
 // Period (T) method: reference ticks between two successive edges. The tick of
 // an edge's own clock starts the next measurement, so no tick is lost.
-class PeriodMeter {
+using PeriodTicks = UInt<23>;
+struct PeriodMeterRegs {
+  PeriodTicks count;  // ticks since the last edge, saturating
+  PeriodTicks last;   // ticks between the last two edges
+  UInt<1> valid;      // `last` spans two same-direction edges, not stalled, not saturated
+  UInt<1> armed;      // an edge has started the running measurement
+  UInt<1> last_dir;   // direction of the last edge: 1 forward
+  UInt<1> overflow;   // sticky: `count` saturated
+  UInt<1> sampled;    // strobe: `last` was updated at this edge
+  bool operator==(const PeriodMeterRegs&) const = default;
+};
+
+class PeriodMeter : public Registers<PeriodMeterRegs> {
  public:
-  static constexpr int kWidth = 23;
-  using Ticks = UInt<kWidth>;
-  struct Regs {
-    Ticks count;       // ticks since the last edge, saturating
-    Ticks last;        // ticks between the last two edges
-    UInt<1> valid;     // `last` spans two same-direction edges, not stalled, not saturated
-    UInt<1> armed;     // an edge has started the running measurement
-    UInt<1> last_dir;  // direction of the last edge: 1 forward
-    UInt<1> overflow;  // sticky: `count` saturated
-    UInt<1> sampled;   // strobe: `last` was updated at this edge
-    bool operator==(const Regs&) const = default;
-  };
-  using Next = Regs;
+  using Ticks = PeriodTicks;
+  static constexpr int kWidth = Ticks::width;
   struct In {
     SInt<2> step;
     bool tick;
@@ -395,7 +373,7 @@ class PeriodMeter {
     return !stall_ticks.is_zero() && r_.count >= stall_ticks;
   }
 
-  [[nodiscard]] Next eval(const In& in) const {
+  [[nodiscard]] Regs eval(const In& in) const {
     if (in.reset)
       return Regs{};
     Regs n = r_;
@@ -422,9 +400,6 @@ class PeriodMeter {
   [[nodiscard]] bool idle(const In& in) const {
     return in.step.is_zero() && !in.tick && (r_.sampled | in.clear_flags | in.reset).is_zero();
   }
-  void commit(const Next& n) { r_ = n; }
-  void reset_now() { r_ = Regs{}; }
-  [[nodiscard]] const Regs& regs() const { return r_; }
 
   template <class V>
   void trace(V& v) const {
@@ -436,9 +411,6 @@ class PeriodMeter {
     v.signal("overflow", r_.overflow);
     v.signal("sampled", r_.sampled);
   }
-
- private:
-  Regs r_;
 };
 
 // The speed word the host reads: the mode bit selects which measurement it is.
@@ -525,12 +497,12 @@ class Eppm {
     v.signal("latch_clear", ports_.latch_clear);
     v.signal("clear_flags", ports_.clear_flags);
     v.signal("reset", ports_.reset);
-    trace_child(v, "conditioner", conditioner_);
-    trace_child(v, "decoder", decoder_);
-    trace_child(v, "counter", counter_);
-    trace_child(v, "timebase", timebase_);
-    trace_child(v, "pulse", pulse_);
-    trace_child(v, "period", period_);
+    trace_scope(v, "conditioner", conditioner_);
+    trace_scope(v, "decoder", decoder_);
+    trace_scope(v, "counter", counter_);
+    trace_scope(v, "timebase", timebase_);
+    trace_scope(v, "pulse", pulse_);
+    trace_scope(v, "period", period_);
   }
 
  private:
@@ -544,13 +516,6 @@ class Eppm {
            (pulse_.regs().sampled | period_.regs().sampled | ports_.latch_clear |
             ports_.clear_flags | ports_.reset)
                .is_zero();
-  }
-
-  template <class V, class Child>
-  static void trace_child(V& v, std::string_view name, const Child& child) {
-    v.enter(name);
-    child.trace(v);
-    v.leave();
   }
 
   EppmInputs ports_;      // the inputs of the last clock, for waveforms

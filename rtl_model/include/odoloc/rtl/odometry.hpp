@@ -53,13 +53,14 @@ constexpr cordic::Angle to_cordic_angle(SInt<W> turns_40) {
 }
 
 // Rear unit: ds = kappa (nL + nR) / 2, dtheta = kappa (nR - nL) / D (paper eqs. 1-3).
-class RearOdometryUnit {
+struct RearOdometryUnitRegs {
+  Distance ds;
+  Heading dtheta;
+  bool operator==(const RearOdometryUnitRegs&) const = default;
+};
+
+class RearOdometryUnit : public Registers<RearOdometryUnitRegs> {
  public:
-  struct Regs {
-    Distance ds;
-    Heading dtheta;
-    bool operator==(const Regs&) const = default;
-  };
   struct In {
     UInt<1> start;
     SInt<20> n_left, n_right;
@@ -77,18 +78,12 @@ class RearOdometryUnit {
             ((in.n_right - in.n_left) * in.dtheta_scale.to_sint()).wrap<Heading::width>()};
   }
   [[nodiscard]] bool idle(const In& in) const { return (in.start | in.reset).is_zero(); }
-  void commit(const Regs& n) { r_ = n; }
-  void reset_now() { r_ = Regs{}; }
-  [[nodiscard]] const Regs& regs() const { return r_; }
 
   template <class V>
   void trace(V& v) const {
     v.signal("ds", r_.ds);
     v.signal("dtheta", r_.dtheta);
   }
-
- private:
-  Regs r_;
 };
 
 // Front unit. The drive wheel rolls dF along its own heading theta + phi; the
@@ -97,19 +92,20 @@ class RearOdometryUnit {
 // sin(phi) for the y increment; see docs/odometry.md.) Two steps: `start`
 // latches the counts, steering and dF; `finish` applies the CORDIC's
 // sin/cos of the mid-period steering angle.
-class FrontOdometryUnit {
+struct FrontOdometryUnitRegs {
+  SInt<24> steer_position;  // steering counts since reset (wheel straight at reset)
+  Steer phi, phi_prev;      // clamped steering angle, this and the last period
+  UInt<1> clamped;          // phi was limited in this period
+  UInt<1> clamp_flag;       // sticky
+  SInt<46> drive;           // dF: wheel roll, 2^-32 m (|nF| < 2^19 counts)
+  SInt<46> turn_per_sin;    // dF / L in 2^-32 turn: dtheta before sin(phi)
+  Distance ds;
+  Heading dtheta;
+  bool operator==(const FrontOdometryUnitRegs&) const = default;
+};
+
+class FrontOdometryUnit : public Registers<FrontOdometryUnitRegs> {
  public:
-  struct Regs {
-    SInt<24> steer_position;  // steering counts since reset (wheel straight at reset)
-    Steer phi, phi_prev;      // clamped steering angle, this and the last period
-    UInt<1> clamped;          // phi was limited in this period
-    UInt<1> clamp_flag;       // sticky
-    SInt<46> drive;           // dF: wheel roll, 2^-32 m (|nF| < 2^19 counts)
-    SInt<46> turn_per_sin;    // dF / L in 2^-32 turn: dtheta before sin(phi)
-    Distance ds;
-    Heading dtheta;
-    bool operator==(const Regs&) const = default;
-  };
   struct In {
     UInt<1> start, finish;
     SInt<20> n_front, n_steer;
@@ -149,9 +145,6 @@ class FrontOdometryUnit {
   [[nodiscard]] bool idle(const In& in) const {
     return (in.start | in.finish | in.clear_flags | in.reset).is_zero();
   }
-  void commit(const Regs& n) { r_ = n; }
-  void reset_now() { r_ = Regs{}; }
-  [[nodiscard]] const Regs& regs() const { return r_; }
   // Mid-period steering angle, the CORDIC input of the `finish` step.
   [[nodiscard]] cordic::Angle cordic_angle() const {
     return to_cordic_angle((r_.phi + r_.phi_prev).shr<1>());
@@ -169,9 +162,6 @@ class FrontOdometryUnit {
     v.signal("ds", r_.ds);
     v.signal("dtheta", r_.dtheta);
   }
-
- private:
-  Regs r_;
 };
 
 // The paper's error reduction: slip and bumps only ever add counts, so the
@@ -184,17 +174,18 @@ class FrontOdometryUnit {
 // threshold and gives it back when D <= -threshold, so noise around one
 // threshold cannot flip the choice every update. shift = 0, threshold = 0 is
 // exactly the paper's memoryless minimum (ties: rear).
-class MinSelect {
+struct MinSelectRegs {
+  Distance ds;
+  Heading dtheta;
+  UInt<1> ds_from_front;      // status: which source won the distance
+  UInt<1> dtheta_from_front;  // status: which source won the heading
+  SInt<62> rear_ds_sum, front_ds_sum, rear_dtheta_sum, front_dtheta_sum;  // leaky sums
+  bool operator==(const MinSelectRegs&) const = default;
+};
+
+class MinSelect : public Registers<MinSelectRegs> {
  public:
   using Accumulator = SInt<62>;
-  struct Regs {
-    Distance ds;
-    Heading dtheta;
-    UInt<1> ds_from_front;      // status: which source won the distance
-    UInt<1> dtheta_from_front;  // status: which source won the heading
-    Accumulator rear_ds_sum, front_ds_sum, rear_dtheta_sum, front_dtheta_sum;
-    bool operator==(const Regs&) const = default;
-  };
   struct In {
     UInt<1> select;
     RearOdometryUnit::Regs rear;
@@ -243,9 +234,6 @@ class MinSelect {
     return n;
   }
   [[nodiscard]] bool idle(const In& in) const { return (in.select | in.reset).is_zero(); }
-  void commit(const Regs& n) { r_ = n; }
-  void reset_now() { r_ = Regs{}; }
-  [[nodiscard]] const Regs& regs() const { return r_; }
 
   template <class V>
   void trace(V& v) const {
@@ -272,19 +260,19 @@ class MinSelect {
     const SInt<64> d = (rear.abs().to_sint() - front.abs().to_sint()).wrap<64>();  // |d| < 2^62
     return front_now ? d > -threshold.to_sint() : d > threshold.to_sint();
   }
-  Regs r_;
 };
 
 // Pose: x += ds cos(theta_mid), y += ds sin(theta_mid), theta += dtheta, with
 // theta_mid = theta + dtheta/2 (midpoint rule: exact for a straight line,
 // second order on arcs).
-class PoseIntegrator {
+struct PoseIntegratorRegs {
+  SInt<64> x, y;   // 2^-46 m
+  UInt<40> theta;  // 2^-40 turn
+  bool operator==(const PoseIntegratorRegs&) const = default;
+};
+
+class PoseIntegrator : public Registers<PoseIntegratorRegs> {
  public:
-  struct Regs {
-    SInt<64> x, y;   // 2^-46 m
-    UInt<40> theta;  // 2^-40 turn
-    bool operator==(const Regs&) const = default;
-  };
   struct In {
     UInt<1> integrate;
     Distance ds;
@@ -309,9 +297,6 @@ class PoseIntegrator {
   [[nodiscard]] bool idle(const In& in) const {
     return (in.integrate | in.set_pose | in.reset).is_zero();
   }
-  void commit(const Regs& n) { r_ = n; }
-  void reset_now() { r_ = Regs{}; }
-  [[nodiscard]] const Regs& regs() const { return r_; }
   [[nodiscard]] cordic::Angle cordic_angle(Heading dtheta) const {
     return to_cordic_angle(r_.theta.to_sint() + dtheta.shr<1>());
   }
@@ -322,9 +307,6 @@ class PoseIntegrator {
     v.signal("y", r_.y);
     v.signal("theta", r_.theta);
   }
-
- private:
-  Regs r_;
 };
 
 // Runs one update per control period with one shared CORDIC:
@@ -349,18 +331,19 @@ enum class OdometryPhase : std::uint8_t {
   kIntegrate,
 };
 
-class OdometrySequencer {
+struct OdometrySequencerRegs {
+  UInt<4> phase;
+  UInt<16> period_count;
+  UInt<32> updates;  // completed pose updates
+  UInt<1> overrun;   // sticky: a period ended before the update finished
+  bool operator==(const OdometrySequencerRegs&) const = default;
+};
+
+class OdometrySequencer : public Registers<OdometrySequencerRegs> {
  public:
   // LATCH edge -> GATHER, PHI_LOAD, 16 iterations, ready seen, FRONT, SELECT,
   // THETA_LOAD, 16 iterations, ready seen, INTEGRATE edge.
   static constexpr unsigned kUpdateLatencyClocks = 4 + 2 * (cordic::kIterations + 2);
-  struct Regs {
-    UInt<4> phase;
-    UInt<16> period_count;
-    UInt<32> updates;  // completed pose updates
-    UInt<1> overrun;   // sticky: a period ended before the update finished
-    bool operator==(const Regs&) const = default;
-  };
   struct In {
     UInt<16> update_clocks;
     UInt<1> cordic_ready;
@@ -402,9 +385,6 @@ class OdometrySequencer {
     return n;
   }
   [[nodiscard]] bool idle(const In&) const { return false; }  // the period counter runs
-  void commit(const Regs& n) { r_ = n; }
-  void reset_now() { r_ = Regs{}; }
-  [[nodiscard]] const Regs& regs() const { return r_; }
   [[nodiscard]] OdometryPhase phase() const { return static_cast<OdometryPhase>(r_.phase.value()); }
   [[nodiscard]] bool in(OdometryPhase p) const { return phase() == p; }
 
@@ -418,7 +398,6 @@ class OdometrySequencer {
 
  private:
   static constexpr UInt<4> encode(OdometryPhase p) { return UInt<4>{static_cast<std::uint8_t>(p)}; }
-  Regs r_;
 };
 
 }  // namespace odoloc::rtl

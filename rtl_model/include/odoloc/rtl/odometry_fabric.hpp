@@ -84,15 +84,13 @@ class OdometryFabric {
 
   template <class V>
   void trace(V& v) const {
-    v.enter("encoders");
-    encoders_.trace(v);
-    v.leave();
-    trace_child(v, "sequencer", sequencer_);
-    trace_child(v, "cordic", cordic_);
-    trace_child(v, "rear", rear_);
-    trace_child(v, "front", front_);
-    trace_child(v, "select", select_);
-    trace_child(v, "pose", integrator_);
+    trace_scope(v, "encoders", encoders_);
+    trace_scope(v, "sequencer", sequencer_);
+    trace_scope(v, "cordic", cordic_);
+    trace_scope(v, "rear", rear_);
+    trace_scope(v, "front", front_);
+    trace_scope(v, "select", select_);
+    trace_scope(v, "pose", integrator_);
   }
 
  private:
@@ -104,13 +102,6 @@ class OdometryFabric {
     }
     return e;
   }
-  template <class V, class Child>
-  static void trace_child(V& v, std::string_view name, const Child& child) {
-    v.enter(name);
-    child.trace(v);
-    v.leave();
-  }
-
   EncoderFabric encoders_;
   OdometrySequencer sequencer_;
   SequentialCordic cordic_;

@@ -34,8 +34,10 @@ Scenario default_square();
 
 // What the fabric should be told about the vehicle: the nominal geometry.
 sw::VehicleGeometry nominal_geometry(const sim::Geometry& g);
-rtl::OdometryFabricConfig fabric_config(const sim::Geometry& g, rtl::MinSelectPolicy policy,
-                                        bool paper_min_select = false);
+// The odometry registers for a vehicle; min-select tuned by
+// sw::min_select_setup unless `paper_min_select` asks for the paper's rule.
+rtl::OdometryConfig odometry_config(const sw::VehicleGeometry& v, rtl::MinSelectPolicy policy,
+                                    bool paper_min_select = false);
 
 struct PosePoint {
   double time_s;
