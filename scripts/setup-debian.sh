@@ -5,7 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build git
-  libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libyaml-cpp-dev
   gtkwave      # vcd2fst: the waveform test cross-checks our VCD with GTKWave's own reader
   gnuplot-nox  # the demo's trajectory plot
 )

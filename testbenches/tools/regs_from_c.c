@@ -1,0 +1,12 @@
+/* The C header seen from C: a few values for test_regmap to compare with the
+ * C++ header (both generated from regmap/odoloc.yaml). */
+#include "odoloc_regs.h"
+
+unsigned odoloc_c_register_count(void) { return ODOLOC_REGISTER_COUNT; }
+unsigned odoloc_c_eppm_steering_speed_addr(void) { return ODOLOC_EPPM_STEERING_SPEED_ADDR; }
+unsigned odoloc_c_speed_mode_mask(void) { return ODOLOC_EPPM_SPEED_MODE_MASK; }
+unsigned odoloc_c_odometry_cfg_reset(void) { return ODOLOC_ODOMETRY_CFG_RESET; }
+unsigned odoloc_c_policy_rear_only(void) { return ODOLOC_ODOMETRY_CFG_POLICY_REAR_ONLY; }
+unsigned odoloc_c_set_decode(unsigned word, unsigned value) {
+  return odoloc_eppm_cfg_decode_mode_set(word, value);
+}
