@@ -17,8 +17,11 @@
 #include <vector>
 
 #include "odoloc/rtl/eppm.hpp"
+#include "test_scale.hpp"
 
 namespace {
+
+using odoloc::tb::scaled;
 
 using odoloc::rtl::Eppm;
 using odoloc::rtl::EppmConfig;
@@ -33,15 +36,6 @@ using odoloc::rtl::SInt;
 using odoloc::rtl::SpeedTimebase;
 using odoloc::rtl::UInt;
 using Rng = std::mt19937_64;
-
-std::uint64_t scaled(std::uint64_t clocks) {
-  const char* env = std::getenv("ODOLOC_TEST_SCALE");  // NOLINT(concurrency-mt-unsafe)
-  const double scale = env != nullptr ? std::strtod(env, nullptr) : 1.0;
-  if (!(scale > 0))
-    return clocks;
-  return std::max<std::uint64_t>(1000,
-                                 static_cast<std::uint64_t>(static_cast<double>(clocks) * scale));
-}
 
 bool one_in(Rng& rng, std::uint64_t n) {
   return rng() % n == 0;

@@ -20,23 +20,17 @@
 #include "eppm_reference.hpp"
 #include "odoloc/rtl/eppm.hpp"
 #include "odoloc/sim/quadrature_source.hpp"
+#include "test_scale.hpp"
 
 namespace {
+
+using odoloc::tb::scaled;
 
 using odoloc::rtl::Eppm;
 using odoloc::rtl::EppmConfig;
 using odoloc::rtl::EppmInputs;
 using odoloc::rtl::UInt;
 using odoloc::sim::QuadratureSource;
-
-std::uint64_t scaled(std::uint64_t clocks) {
-  const char* env = std::getenv("ODOLOC_TEST_SCALE");  // NOLINT(concurrency-mt-unsafe)
-  const double scale = env != nullptr ? std::strtod(env, nullptr) : 1.0;
-  if (!(scale > 0))
-    return clocks;
-  return std::max<std::uint64_t>(1000,
-                                 static_cast<std::uint64_t>(static_cast<double>(clocks) * scale));
-}
 
 EppmInputs pins_input(unsigned ab) {
   EppmInputs in;

@@ -3,25 +3,11 @@
 #include <sstream>
 
 #include "odoloc/regmap/regmap.hpp"
+#include "text.hpp"
 
 namespace odoloc::regmap {
 
 namespace {
-
-std::string hex(std::uint32_t v, int digits = 0) {
-  std::ostringstream s;
-  s << "0x" << std::hex;
-  s.width(digits);
-  s.fill('0');
-  s << v;
-  return s.str();
-}
-
-std::string upper(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
-  return s;
-}
 
 std::string camel(const std::string& snake) {
   std::string out;

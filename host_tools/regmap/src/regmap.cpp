@@ -8,6 +8,8 @@
 #include <set>
 #include <sstream>
 
+#include "text.hpp"
+
 namespace odoloc::regmap {
 
 namespace {
@@ -21,12 +23,6 @@ YAML::Node required(const YAML::Node& node, const char* key, const std::string& 
   if (!found)
     fail(node, where + ": missing '" + key + "'");
   return found;
-}
-
-std::string hex(std::uint32_t v) {
-  std::ostringstream s;
-  s << "0x" << std::hex << v;
-  return s.str();
 }
 
 template <class T>
@@ -174,12 +170,6 @@ Block parse_block(const YAML::Node& n, int data_bits) {
     b.registers.push_back(std::move(r));
   }
   return b;
-}
-
-std::string upper(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
-  return s;
 }
 
 // Every address the map occupies, reserved ranges included, must be unique.
