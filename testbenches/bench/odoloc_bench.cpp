@@ -5,6 +5,7 @@
 
 #include "odoloc/rtl/encoder_fabric.hpp"
 #include "odoloc/sim/quadrature_source.hpp"
+#include "odometry_bench.hpp"
 
 namespace {
 
@@ -61,6 +62,22 @@ void BM_FourEppm_CycleStep_Ungated(benchmark::State& state) {
   step_four_eppms<odoloc::rtl::Gating::kOff>(state);
 }
 BENCHMARK(BM_FourEppm_CycleStep_Ungated);
+
+// The whole odometry fabric (four EPPMs, CORDIC, both units, min-select,
+// pose) on a 1 m/s left turn at 20 degrees of steering, updating every 100 us.
+void BM_OdometryFabric_CycleStep(benchmark::State& state) {
+  odoloc::tb::OdometryBench bench;
+  bench.steer_to(20.0 * M_PI / 180.0);
+  bench.drive(1.0, 20.0 * M_PI / 180.0);
+  const std::uint64_t start = bench.clocks;
+  for (auto _ : state) {
+    bench.run(1024);
+    benchmark::DoNotOptimize(bench.fabric);
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(bench.clocks - start));
+  state.counters["updates"] = static_cast<double>(bench.fabric.sequencer().updates.value());
+}
+BENCHMARK(BM_OdometryFabric_CycleStep);
 
 }  // namespace
 
