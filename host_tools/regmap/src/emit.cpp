@@ -34,20 +34,9 @@ std::string quoted(const std::string& s) {
   return out + "\"";
 }
 
-const char* cpp_access(Access a) {
-  switch (a) {
-    case Access::kRo:
-      return "Access::kRo";
-    case Access::kRw:
-      return "Access::kRw";
-    case Access::kW1c:
-      return "Access::kW1c";
-    case Access::kRc:
-      return "Access::kRc";
-    case Access::kW1p:
-      return "Access::kW1p";
-  }
-  return "";
+// The generated enumerator: "ro" -> "Access::kRo".
+std::string cpp_access(Access a) {
+  return "Access::k" + camel(to_string(a));
 }
 
 constexpr const char* kGeneratedBanner =

@@ -60,16 +60,12 @@ void check_unique(std::set<std::string>& seen, const YAML::Node& at, const std::
 }
 
 Access access_of(const YAML::Node& node, const std::string& where) {
-  static const std::map<std::string, Access> kNames = {{"ro", Access::kRo},
-                                                       {"rw", Access::kRw},
-                                                       {"w1c", Access::kW1c},
-                                                       {"rc", Access::kRc},
-                                                       {"w1p", Access::kW1p}};
   const auto name = scalar<std::string>(node, where);
-  const auto it = kNames.find(name);
-  if (it == kNames.end())
-    fail(node, where + ": unknown access '" + name + "'");
-  return it->second;
+  for (const Access a : {Access::kRo, Access::kRw, Access::kW1c, Access::kRc, Access::kW1p}) {
+    if (name == to_string(a))
+      return a;
+  }
+  fail(node, where + ": unknown access '" + name + "'");
 }
 
 Field parse_field(const YAML::Node& n, Access default_access, int data_bits,
