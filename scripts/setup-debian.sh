@@ -5,7 +5,8 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build git
-  libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libyaml-cpp-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libyaml-cpp-dev nlohmann-json3-dev libfmt-dev
+  clang libclang-rt-14-dev  # libFuzzer for the bounded fuzz runs (ctest label fuzz)
   gtkwave      # vcd2fst: the waveform test cross-checks our VCD with GTKWave's own reader
   gnuplot-nox  # the demo's trajectory plot
 )

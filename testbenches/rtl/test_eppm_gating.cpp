@@ -142,7 +142,9 @@ TEST(EppmGating, GatedAndUngatedAgreeEveryClock) {
       in.a = UInt<1>::truncate(pins >> 1);
       in.b = UInt<1>::truncate(pins);
       in.latch_clear = UInt<1>::truncate(one_in(rng, 500));
-      in.clear_flags = UInt<1>::truncate(one_in(rng, 500));
+      // Each flag's clear on its own, so the gating sees every combination.
+      const auto clear = [&] { return UInt<1>::truncate(one_in(rng, 2000)); };
+      in.clear = {clear(), clear(), clear(), clear()};
       in.reset = UInt<1>::truncate(one_in(rng, 50'000));
 
       const auto before =
@@ -242,7 +244,8 @@ TEST(LeafIdleContract, PositionCounter) {
       },
       [](Rng& rng) {
         return PositionCounter::In{random_step(rng), UInt<1>::truncate(one_in(rng, 20)),
-                                   UInt<1>::truncate(one_in(rng, 20)),
+                                   UInt<1>::truncate(one_in(rng, 40)),
+                                   UInt<1>::truncate(one_in(rng, 40)),
                                    UInt<1>::truncate(one_in(rng, 100))};
       });
   EXPECT_GT(idle_share, 0.05);

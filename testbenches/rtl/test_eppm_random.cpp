@@ -28,6 +28,7 @@ using odoloc::tb::scaled;
 
 using odoloc::rtl::Eppm;
 using odoloc::rtl::EppmConfig;
+using odoloc::rtl::EppmFlagClear;
 using odoloc::rtl::EppmInputs;
 using odoloc::rtl::UInt;
 using odoloc::sim::QuadratureSource;
@@ -180,7 +181,7 @@ TEST_P(EppmRandom, MatchesReferenceEveryClock) {
     const bool latching = latch != latch_steps.end() && *latch == k;
     const bool clearing = clear != clear_steps.end() && *clear == k;
     in.latch_clear = UInt<1>::truncate(latching);
-    in.clear_flags = UInt<1>::truncate(clearing);
+    in.clear = EppmFlagClear::all(UInt<1>::truncate(clearing));
     if (latching)
       ++latch;
     if (clearing)

@@ -58,7 +58,9 @@ TEST(OdometryGating, GatedAndUngatedAgreeEveryClock) {
     in.pose = {odoloc::rtl::SInt<64>::truncate(static_cast<std::int64_t>(rng())),
                odoloc::rtl::SInt<64>::truncate(static_cast<std::int64_t>(rng())),
                UInt<40>::truncate(rng())};
-    in.clear_flags = strobe(30'000);
+    for (auto& clear : in.eppm_clear)
+      clear = {strobe(100'000), strobe(100'000), strobe(100'000), strobe(100'000)};
+    in.odometry_clear = {strobe(60'000), strobe(60'000)};
     in.reset = strobe(200'000);
     gated.step<Gating::kOn>(in, cfg);
     full.step<Gating::kOff>(in, cfg);

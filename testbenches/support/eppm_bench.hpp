@@ -26,7 +26,8 @@ struct EppmBench {
   void clock(std::uint64_t n = 1) {
     for (std::uint64_t i = 0; i < n; ++i) {
       dut.step(in, cfg);
-      in.latch_clear = in.clear_flags = in.reset = rtl::UInt<1>{};
+      in.latch_clear = in.reset = rtl::UInt<1>{};
+      in.clear = {};
       ++steps;
     }
   }
@@ -35,7 +36,7 @@ struct EppmBench {
     clock();
   }
   void clear_flags() {
-    in.clear_flags = rtl::UInt<1>{1};
+    in.clear = rtl::EppmFlagClear::all(rtl::UInt<1>{1});
     clock();
   }
   // Drives the pins from a quadrature source for n clocks.

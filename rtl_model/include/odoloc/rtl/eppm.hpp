@@ -34,10 +34,22 @@ struct EppmConfig {
   UInt<23> stall_ticks{50'000};    // stalled after this many ticks without an edge; 0: never
 };
 
+// One clear strobe per sticky flag, so a write-1-to-clear status register
+// clears exactly the flags written; an event in the clearing clock wins.
+struct EppmFlagClear {
+  UInt<1> phase_error;  // and the error counter
+  UInt<1> carry, borrow, period_overflow;
+  static constexpr EppmFlagClear all(UInt<1> clear) { return {clear, clear, clear, clear}; }
+  [[nodiscard]] constexpr UInt<1> any() const {
+    return phase_error | carry | borrow | period_overflow;
+  }
+  bool operator==(const EppmFlagClear&) const = default;
+};
+
 struct EppmInputs {
   UInt<1> a, b;         // encoder pins, asynchronous to the fabric clock
   UInt<1> latch_clear;  // read increment: latch the count and restart it from 0
-  UInt<1> clear_flags;  // clear the sticky flags and the error counter
+  EppmFlagClear clear;  // sticky flags to clear
   UInt<1> reset;        // synchronous reset of every register
 };
 
@@ -138,7 +150,7 @@ class QuadratureDecoder : public Registers<QuadratureDecoderRegs> {
   static constexpr std::array<QuadTransition, 16> kTable = make_quadrature_table();
   struct In {
     UInt<2> filtered;
-    UInt<1> clear_flags;
+    UInt<1> clear_phase_error;
     UInt<1> reset;
   };
 
@@ -155,7 +167,7 @@ class QuadratureDecoder : public Registers<QuadratureDecoderRegs> {
     n.prev = in.filtered;
     if (t.count[0] != 0)
       n.direction = UInt<1>::truncate(t.count[0] > 0);
-    if (in.clear_flags) {
+    if (in.clear_phase_error) {
       n.phase_error = UInt<1>{};
       n.error_count = UInt<16>{};
     }
@@ -166,7 +178,7 @@ class QuadratureDecoder : public Registers<QuadratureDecoderRegs> {
     return n;
   }
   [[nodiscard]] bool idle(const In& in) const {
-    return in.filtered == r_.prev && (in.clear_flags | in.reset).is_zero();
+    return in.filtered == r_.prev && (in.clear_phase_error | in.reset).is_zero();
   }
 
   template <class V>
@@ -200,7 +212,7 @@ class PositionCounter : public Registers<PositionCounterRegs> {
   struct In {
     SInt<2> step;
     UInt<1> latch_clear;
-    UInt<1> clear_flags;
+    UInt<1> clear_carry, clear_borrow;
     UInt<1> reset;
   };
 
@@ -211,10 +223,10 @@ class PositionCounter : public Registers<PositionCounterRegs> {
       return Regs{};
     Regs n = r_;
     const Count sum = (r_.count + in.step).wrap<kWidth>();
-    if (in.clear_flags) {
+    if (in.clear_carry)
       n.carry = UInt<1>{};
+    if (in.clear_borrow)
       n.borrow = UInt<1>{};
-    }
     if (in.step.value() > 0 && r_.count.value() == Count::max_value)
       n.carry = UInt<1>{1};
     if (in.step.value() < 0 && r_.count.value() == Count::min_value)
@@ -225,7 +237,8 @@ class PositionCounter : public Registers<PositionCounterRegs> {
     return n;
   }
   [[nodiscard]] bool idle(const In& in) const {
-    return in.step.is_zero() && (in.latch_clear | in.clear_flags | in.reset).is_zero();
+    return in.step.is_zero() &&
+           (in.latch_clear | in.clear_carry | in.clear_borrow | in.reset).is_zero();
   }
 
   template <class V>
@@ -365,7 +378,7 @@ class PeriodMeter : public Registers<PeriodMeterRegs> {
     SInt<2> step;
     bool tick;
     UInt<23> stall_ticks;
-    UInt<1> clear_flags;
+    UInt<1> clear_overflow;
     UInt<1> reset;
   };
 
@@ -378,7 +391,7 @@ class PeriodMeter : public Registers<PeriodMeterRegs> {
       return Regs{};
     Regs n = r_;
     n.sampled = UInt<1>::truncate(!in.step.is_zero());
-    if (in.clear_flags)
+    if (in.clear_overflow)
       n.overflow = UInt<1>{};
     const UInt<1> tick = UInt<1>::truncate(in.tick);
     if (in.step.is_zero()) {
@@ -398,7 +411,7 @@ class PeriodMeter : public Registers<PeriodMeterRegs> {
     return n;
   }
   [[nodiscard]] bool idle(const In& in) const {
-    return in.step.is_zero() && !in.tick && (r_.sampled | in.clear_flags | in.reset).is_zero();
+    return in.step.is_zero() && !in.tick && (r_.sampled | in.clear_overflow | in.reset).is_zero();
   }
 
   template <class V>
@@ -437,20 +450,20 @@ class Eppm {
     // no step, so only the timebase moves, plus the period meter on a tick.
     // Window ends take the full path: they set a strobe that unsettles.
     if (G == Gating::kOn && settled_ && !window_end && cat(in.a, in.b) == filtered &&
-        (in.latch_clear | in.clear_flags | in.reset).is_zero()) {
+        (in.latch_clear | in.clear.any() | in.reset).is_zero()) {
       timebase_.commit(timebase_.eval(timebase_in));
-      clock_block<G>(period_, {SInt<2>{}, tick, cfg.stall_ticks, in.clear_flags, in.reset});
+      clock_block<G>(period_, {SInt<2>{}, tick, cfg.stall_ticks, UInt<1>{}, in.reset});
       return;
     }
     const SInt<2> step = decoder_.step(filtered, cfg.decode_mode);
     ports_ = in;
     clock_block<G>(conditioner_, {cat(in.a, in.b), cfg.filter_clocks, in.reset});
-    clock_block<G>(decoder_, {filtered, in.clear_flags, in.reset});
-    clock_block<G>(counter_, {step, in.latch_clear, in.clear_flags, in.reset});
+    clock_block<G>(decoder_, {filtered, in.clear.phase_error, in.reset});
+    clock_block<G>(counter_, {step, in.latch_clear, in.clear.carry, in.clear.borrow, in.reset});
     clock_block<G>(timebase_, timebase_in);
     clock_block<G>(pulse_, {step, window_end, cfg.speed_mode_select, cfg.to_period_below,
                             cfg.to_pulse_at, in.reset});
-    clock_block<G>(period_, {step, tick, cfg.stall_ticks, in.clear_flags, in.reset});
+    clock_block<G>(period_, {step, tick, cfg.stall_ticks, in.clear.period_overflow, in.reset});
     settled_ = settled();
   }
   void reset_now() {
@@ -495,7 +508,10 @@ class Eppm {
     v.signal("a", ports_.a);
     v.signal("b", ports_.b);
     v.signal("latch_clear", ports_.latch_clear);
-    v.signal("clear_flags", ports_.clear_flags);
+    v.signal("clear_phase_error", ports_.clear.phase_error);
+    v.signal("clear_carry", ports_.clear.carry);
+    v.signal("clear_borrow", ports_.clear.borrow);
+    v.signal("clear_period_overflow", ports_.clear.period_overflow);
     v.signal("reset", ports_.reset);
     trace_scope(v, "conditioner", conditioner_);
     trace_scope(v, "decoder", decoder_);
@@ -514,7 +530,7 @@ class Eppm {
     return c.sync1 == c.sync2 && c.sync2 == c.filtered && c.filtered == decoder_.regs().prev &&
            (c.stable_a | c.stable_b).is_zero() &&
            (pulse_.regs().sampled | period_.regs().sampled | ports_.latch_clear |
-            ports_.clear_flags | ports_.reset)
+            ports_.clear.any() | ports_.reset)
                .is_zero();
   }
 

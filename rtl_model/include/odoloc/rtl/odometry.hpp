@@ -111,14 +111,14 @@ class FrontOdometryUnit : public Registers<FrontOdometryUnitRegs> {
     SInt<20> n_front, n_steer;
     cordic::SinCos steer_sincos;
     UInt<32> ds_scale, dtheta_scale, steer_scale, steer_limit;
-    UInt<1> clear_flags, reset;
+    UInt<1> clear_clamp, reset;
   };
 
   [[nodiscard]] Regs eval(const In& in) const {
     if (in.reset)
       return Regs{};
     Regs n = r_;
-    if (in.clear_flags)
+    if (in.clear_clamp)
       n.clamp_flag = UInt<1>{};
     if (in.start) {
       n.steer_position = (r_.steer_position + in.n_steer).sat<24>();
@@ -143,7 +143,7 @@ class FrontOdometryUnit : public Registers<FrontOdometryUnitRegs> {
     return n;
   }
   [[nodiscard]] bool idle(const In& in) const {
-    return (in.start | in.finish | in.clear_flags | in.reset).is_zero();
+    return (in.start | in.finish | in.clear_clamp | in.reset).is_zero();
   }
   // Mid-period steering angle, the CORDIC input of the `finish` step.
   [[nodiscard]] cordic::Angle cordic_angle() const {
@@ -347,14 +347,14 @@ class OdometrySequencer : public Registers<OdometrySequencerRegs> {
   struct In {
     UInt<16> update_clocks;
     UInt<1> cordic_ready;
-    UInt<1> clear_flags, reset;
+    UInt<1> clear_overrun, reset;
   };
 
   [[nodiscard]] Regs eval(const In& in) const {
     if (in.reset)
       return Regs{};
     Regs n = r_;
-    if (in.clear_flags)
+    if (in.clear_overrun)
       n.overrun = UInt<1>{};
     const bool period_end =
         !in.update_clocks.is_zero() && r_.period_count + UInt<1>{1} >= in.update_clocks;

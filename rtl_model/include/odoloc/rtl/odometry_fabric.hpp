@@ -10,6 +10,15 @@
 
 namespace odoloc::rtl {
 
+// One clear strobe per sticky odometry flag (register odometry.status, w1c).
+struct OdometryFlagClear {
+  UInt<1> overrun;        // the sequencer's, and the CORDIC's load_ignored
+  UInt<1> steer_clamped;  // the front unit's clamp flag
+  static constexpr OdometryFlagClear all(UInt<1> clear) { return {clear, clear}; }
+  [[nodiscard]] constexpr UInt<1> any() const { return overrun | steer_clamped; }
+  bool operator==(const OdometryFlagClear&) const = default;
+};
+
 struct OdometryFabricConfig {
   EncoderFabric::Configs eppm{};
   OdometryConfig odometry{};
@@ -21,19 +30,25 @@ class OdometryFabric {
     std::array<UInt<2>, kWheelCount> pins{};  // A/B per encoder, A in bit 1
     UInt<1> set_pose;                         // load `pose` into the integrator
     PoseIntegrator::Regs pose;
-    UInt<1> clear_flags;
+    std::array<EppmFlagClear, kWheelCount> eppm_clear{};
+    OdometryFlagClear odometry_clear;
     UInt<1> reset;
+    // Every sticky flag of the fabric (odometry.command.clear_flags).
+    void clear_all(UInt<1> clear) {
+      eppm_clear.fill(EppmFlagClear::all(clear));
+      odometry_clear = OdometryFlagClear::all(clear);
+    }
   };
 
   template <Gating G = Gating::kOn>
   [[gnu::flatten]] void step(const Inputs& in, const OdometryFabricConfig& cfg) {
     const OdometryConfig& oc = cfg.odometry;
-    const OdometrySequencer::In sequencer_in{oc.update_clocks, cordic_.regs().ready, in.clear_flags,
-                                             in.reset};
+    const OdometrySequencer::In sequencer_in{oc.update_clocks, cordic_.regs().ready,
+                                             in.odometry_clear.overrun, in.reset};
     // Between updates (the common case) only the EPPMs and the period
     // counter move: the CORDIC and every unit are idle.
     if (G == Gating::kOn && sequencer_.in(OdometryPhase::kIdle) &&
-        (in.set_pose | in.clear_flags | in.reset).is_zero()) {
+        (in.set_pose | in.odometry_clear.any() | in.reset).is_zero()) {
       encoders_.step<G>(eppm_inputs(in, UInt<1>{}), cfg.eppm);
       sequencer_.commit(sequencer_.eval(sequencer_in));
       return;
@@ -49,13 +64,14 @@ class OdometryFabric {
 
     encoders_.step<G>(eppm_inputs(in, bit(sequencer_.in(OdometryPhase::kLatch))), cfg.eppm);
     clock_block<G>(sequencer_, sequencer_in);
-    clock_block<G>(cordic_, {phi_load | theta_load, cordic_angle, in.clear_flags, in.reset});
+    clock_block<G>(cordic_,
+                   {phi_load | theta_load, cordic_angle, in.odometry_clear.overrun, in.reset});
     clock_block<G>(rear_, {gather, latched(Wheel::kLeftRear), latched(Wheel::kRightRear),
                            oc.rear_ds_scale, oc.rear_dtheta_scale, in.reset});
     clock_block<G>(front_,
                    {gather, bit(sequencer_.in(OdometryPhase::kFront)), latched(Wheel::kFrontDrive),
                     latched(Wheel::kSteering), sincos, oc.front_ds_scale, oc.front_dtheta_scale,
-                    oc.steer_scale, oc.steer_limit, in.clear_flags, in.reset});
+                    oc.steer_scale, oc.steer_limit, in.odometry_clear.steer_clamped, in.reset});
     clock_block<G>(select_, {bit(sequencer_.in(OdometryPhase::kSelect)), rear_.regs(),
                              front_.regs().ds, front_.regs().dtheta, oc.policy, oc.select_shift,
                              oc.select_ds_threshold, oc.select_dtheta_threshold, in.reset});
@@ -98,7 +114,7 @@ class OdometryFabric {
   static EncoderFabric::Inputs eppm_inputs(const Inputs& in, UInt<1> latch) {
     EncoderFabric::Inputs e;
     for (std::size_t w = 0; w < kWheelCount; ++w) {
-      e[w] = {in.pins[w].bit<1>(), in.pins[w].bit<0>(), latch, in.clear_flags, in.reset};
+      e[w] = {in.pins[w].bit<1>(), in.pins[w].bit<0>(), latch, in.eppm_clear[w], in.reset};
     }
     return e;
   }

@@ -45,8 +45,10 @@
 //   commit_count   are regs().words[0..commit_count-1], for commit_address
 //                  onwards; commit_write = 0: a read frame completed (e.g. for
 //                  read-to-clear registers).
-//   In.write_refused  the register side may pulse it after a commit; it is
-//                  merged into the status of the frame just ended.
+//   frame_end      one clock, at every seen cs_n rise of a frame; `status`
+//                  then holds that frame's flags.
+//   In.write_refused  the register side drives it in the commit clock (or
+//                  later); it is merged into the status of the frame just ended.
 //   status         kStatus* flags of the last completed frame (MISO byte 0 of
 //                  the next frame).
 #pragma once
@@ -106,6 +108,7 @@ struct SpiSlaveRegs {
   UInt<1> read_strobe;
   UInt<10> read_address;
   UInt<1> commit, commit_write;
+  UInt<1> frame_end;  // one clock: a frame ended; `status` holds its flags
   UInt<10> commit_address;
   UInt<6> commit_count;
   UInt<4> status;
@@ -141,7 +144,7 @@ class SpiSlave : public Registers<SpiSlaveRegs> {
     n.cs_prev = r_.cs_sync;
     n.mosi_meta = in.mosi;
     n.mosi_sync = r_.mosi_meta;
-    n.snapshot = n.read_strobe = n.commit = UInt<1>{};
+    n.snapshot = n.read_strobe = n.commit = n.frame_end = UInt<1>{};
     n.level_clocks = (r_.level_clocks + UInt<1>{1}).sat<3>();
     if (r_.read_strobe)
       n.read_word = in.read_data;
@@ -172,7 +175,8 @@ class SpiSlave : public Registers<SpiSlaveRegs> {
 
   [[nodiscard]] bool idle(const In& in) const {
     const auto settled = [](UInt<1> pin, UInt<1> a, UInt<1> b) { return pin == a && a == b; };
-    return (in.reset | in.write_refused | r_.snapshot | r_.read_strobe | r_.commit).is_zero() &&
+    return (in.reset | in.write_refused | r_.snapshot | r_.read_strobe | r_.commit | r_.frame_end)
+               .is_zero() &&
            settled(in.sclk, r_.sclk_meta, r_.sclk_sync) && r_.sclk_sync == r_.sclk_prev &&
            settled(in.cs_n, r_.cs_meta, r_.cs_sync) && r_.cs_sync == r_.cs_prev &&
            settled(in.mosi, r_.mosi_meta, r_.mosi_sync) &&
@@ -203,6 +207,7 @@ class SpiSlave : public Registers<SpiSlaveRegs> {
     v.signal("commit_write", r_.commit_write);
     v.signal("commit_address", r_.commit_address);
     v.signal("commit_count", r_.commit_count);
+    v.signal("frame_end", r_.frame_end);
     v.signal("status", r_.status);
   }
 
@@ -289,11 +294,13 @@ class SpiSlave : public Registers<SpiSlaveRegs> {
 
   void end_frame(Regs& n) const {
     n.active = UInt<1>{};
+    n.frame_end = UInt<1>{1};
     n.miso = UInt<1>{};
     const bool write = !is_read(n.command);
     const bool bad_length = n.rx_count.value() != data_end(n.command) + (r_.crc_on ? 8U : 0U);
-    const bool crc_error = !bad_length && r_.crc_on && write &&
-                           (n.rx_crc ^ UInt<8>{kCrc8XorOut}) != n.rx_shift.bits<7, 0>();
+    // Reads are checked too: a corrupted read command must not clear an rc register.
+    const bool crc_error =
+        !bad_length && r_.crc_on && (n.rx_crc ^ UInt<8>{kCrc8XorOut}) != n.rx_shift.bits<7, 0>();
     const bool overrun = n.frame_overrun == UInt<1>{1};
     n.status =
         UInt<4>::truncate((crc_error ? kStatusCrcError : 0U) |

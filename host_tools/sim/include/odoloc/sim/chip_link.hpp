@@ -1,0 +1,73 @@
+// sw::SpiLink onto the pins of the whole chip: a pin-level SPI master shifts
+// each frame one fabric clock at a time, so the SoC-side bus code drives the
+// model exactly as it would drive the FPGA.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "odoloc/rtl/odoloc_chip.hpp"
+#include "odoloc/sim/spi_pin_master.hpp"
+#include "odoloc/sw/spi_frame.hpp"
+
+namespace odoloc::sim {
+
+class ChipLink final : public sw::SpiLink {
+ public:
+  // Sets the encoder pins before every clock; empty: they stay as they are.
+  using Stimulus = std::function<void(std::array<rtl::UInt<2>, rtl::kWheelCount>&)>;
+
+  explicit ChipLink(SpiMasterConfig config, Stimulus stimulus = {})
+      : master_(config), stimulus_(std::move(stimulus)) {}
+
+  void transfer(std::span<const std::uint8_t> mosi, std::span<std::uint8_t> miso) override {
+    const std::vector<std::uint8_t> got = transfer_bits(mosi, SpiPinMaster::kNoAbort);
+    std::ranges::copy(got.begin(), got.begin() + static_cast<std::ptrdiff_t>(miso.size()),
+                      miso.begin());
+  }
+  void set_mode3(bool mode3) override { master_.set_mode3(mode3); }
+
+  // One frame cut after `bits` rising SCLK edges (SpiPinMaster::transfer).
+  std::vector<std::uint8_t> transfer_bits(std::span<const std::uint8_t> mosi, std::size_t bits) {
+    return master_.transfer(
+        mosi,
+        [this](rtl::UInt<1> sclk, rtl::UInt<1> cs_n, rtl::UInt<1> mosi_pin) {
+          return clock(sclk, cs_n, mosi_pin);
+        },
+        bits);
+  }
+
+  // Clocks with cs_n high and SCLK at its idle level.
+  void advance(std::uint64_t clocks) {
+    const rtl::UInt<1> idle_sclk = rtl::UInt<1>::truncate(master_.config().mode3 ? 1 : 0);
+    for (std::uint64_t i = 0; i < clocks; ++i)
+      clock(idle_sclk, rtl::UInt<1>{1}, rtl::UInt<1>{});
+  }
+
+  [[nodiscard]] const rtl::OdolocChip& chip() const { return chip_; }
+  [[nodiscard]] SpiPinMaster& master() { return master_; }
+  [[nodiscard]] std::uint64_t clocks() const { return clocks_; }
+
+ private:
+  rtl::UInt<1> clock(rtl::UInt<1> sclk, rtl::UInt<1> cs_n, rtl::UInt<1> mosi) {
+    if (stimulus_)
+      stimulus_(pins_.encoders);
+    pins_.sclk = sclk;
+    pins_.cs_n = cs_n;
+    pins_.mosi = mosi;
+    chip_.step(pins_);
+    ++clocks_;
+    return chip_.miso();
+  }
+
+  rtl::OdolocChip chip_;
+  rtl::ChipPins pins_;
+  SpiPinMaster master_;
+  Stimulus stimulus_;
+  std::uint64_t clocks_ = 0;
+};
+
+}  // namespace odoloc::sim

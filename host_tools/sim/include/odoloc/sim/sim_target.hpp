@@ -1,0 +1,43 @@
+// The simulated board: the whole fabric chip (rtl::OdolocChip) behind a
+// pin-level SPI master, optionally with the ground-truth robot driving its
+// encoder pins so counts move. The host tool's `--target sim`.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "odoloc/sw/spi_frame.hpp"
+
+namespace odoloc::sim {
+
+struct SimTargetOptions {
+  std::string scenario = "none";  // one of SimTarget::scenarios()
+  unsigned sclk_half_period = 4;  // fabric clocks per SCLK level (>= 4: 6.25 MHz)
+};
+
+class SimTarget {
+ public:
+  // Throws std::invalid_argument for an unknown scenario or a bad option.
+  explicit SimTarget(const SimTargetOptions& options);
+  SimTarget(const SimTarget&) = delete;
+  SimTarget& operator=(const SimTarget&) = delete;
+  ~SimTarget();
+
+  // Frames clock the fabric (and the scenario) while they shift.
+  [[nodiscard]] sw::SpiLink& link();
+  // Runs the fabric for `simulated` time with cs_n high.
+  void advance(std::chrono::nanoseconds simulated);
+  [[nodiscard]] std::uint64_t clocks() const;
+
+  // "none", then the scenario names.
+  static std::vector<std::string> scenarios();
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace odoloc::sim

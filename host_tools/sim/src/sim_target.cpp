@@ -1,0 +1,90 @@
+#include "odoloc/sim/sim_target.hpp"
+
+#include <algorithm>
+#include <functional>
+#include <map>
+#include <optional>
+#include <stdexcept>
+
+#include "odoloc/scenario/odometry_scenario.hpp"
+#include "odoloc/sim/chip_link.hpp"
+#include "odoloc/sim/tricycle.hpp"
+
+namespace odoloc::sim {
+namespace {
+
+using ScenarioMaker = std::function<scenario::Scenario()>;
+
+const std::map<std::string, ScenarioMaker, std::less<>>& scenario_table() {
+  static const std::map<std::string, ScenarioMaker, std::less<>> table{
+      {"square", [] { return scenario::default_square(); }},
+      {"straight", [] { return scenario::bump_scenario(scenario::BumpCase::kNone); }},
+      {"bump_one_rear", [] { return scenario::bump_scenario(scenario::BumpCase::kOneRear); }},
+  };
+  return table;
+}
+
+}  // namespace
+
+// The chip, plus the ground-truth robot when a scenario drives the encoders.
+class SimTarget::Impl {
+ public:
+  explicit Impl(const SimTargetOptions& options)
+      : link_({.half_period = checked_half_period(options.sclk_half_period)},
+              make_stimulus(options.scenario)) {}
+  ChipLink& link() { return link_; }
+
+ private:
+  static unsigned checked_half_period(unsigned half_period) {
+    if (half_period < rtl::SpiSlave::kMinLevelClocks)
+      throw std::invalid_argument("SCLK half period of " + std::to_string(half_period) +
+                                  " clocks: the slave needs at least " +
+                                  std::to_string(rtl::SpiSlave::kMinLevelClocks));
+    return half_period;
+  }
+  ChipLink::Stimulus make_stimulus(const std::string& name) {
+    if (name == "none")
+      return {};
+    const auto it = scenario_table().find(name);
+    if (it == scenario_table().end())
+      throw std::invalid_argument("unknown scenario '" + name + "'");
+    const scenario::Scenario s = it->second();
+    Options truth_options;
+    truth_options.start = s.start;
+    truth_.emplace(s.geometry, s.path, s.disturbances, truth_options);
+    // When the path ends the robot stands still: the pins keep their levels.
+    return [this](std::array<rtl::UInt<2>, rtl::kWheelCount>& encoders) {
+      if (!truth_->done())
+        encoders = truth_->tick();
+    };
+  }
+
+  std::optional<TricycleSimulator> truth_;  // before link_: the stimulus refers to it
+  ChipLink link_;
+};
+
+SimTarget::SimTarget(const SimTargetOptions& options) : impl_(std::make_unique<Impl>(options)) {}
+SimTarget::~SimTarget() = default;
+
+sw::SpiLink& SimTarget::link() {
+  return impl_->link();
+}
+
+void SimTarget::advance(std::chrono::nanoseconds simulated) {
+  if (simulated.count() < 0)
+    throw std::invalid_argument("cannot advance by a negative time");
+  impl_->link().advance(static_cast<std::uint64_t>(simulated.count()) / rtl::kFabricClockPeriodNs);
+}
+
+std::uint64_t SimTarget::clocks() const {
+  return impl_->link().clocks();
+}
+
+std::vector<std::string> SimTarget::scenarios() {
+  std::vector<std::string> names{"none"};
+  for (const auto& [name, make] : scenario_table())
+    names.push_back(name);
+  return names;
+}
+
+}  // namespace odoloc::sim
