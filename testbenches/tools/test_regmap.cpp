@@ -240,6 +240,13 @@ TEST(RegisterMapGenerator, RejectsInconsistentDescriptions) {
       "duplicate instance");
   expect_rejected("map: [unterminated", "YAML");
   expect_rejected(description("  - name: A\n    base: 0\n    registers: []\n"), "lower_snake_case");
+  expect_rejected(description("  - name: a\n    base: 0\n    registers:\n"
+                              "      - {name: r, offset: 0, access: rw, fields: [{name: f, bits: "
+                              "[0, 0], description: one, two}]}\n"),
+                  "unknown key 'two'");
+  expect_rejected(description("  - name: a\n    base: 0\n    registers:\n"
+                              "      - {name: r, offest: 0, access: rw, fields: []}\n"),
+                  "unknown key 'offest'");
 }
 
 }  // namespace

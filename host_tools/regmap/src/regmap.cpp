@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <fstream>
+#include <initializer_list>
 #include <map>
 #include <set>
 #include <sstream>
+#include <string_view>
 
 #include "text.hpp"
 
@@ -59,6 +61,20 @@ void check_unique(std::set<std::string>& seen, const YAML::Node& at, const std::
   }
 }
 
+// Rejects keys the schema does not know: a typo, or an unquoted comma in a
+// flow-style value, which YAML reads as the start of another key.
+void check_keys(const YAML::Node& n, std::initializer_list<std::string_view> known,
+                const std::string& where) {
+  if (!n.IsMap())
+    fail(n, where + ": expected a mapping");
+  for (const auto& kv : n) {
+    const auto key = kv.first.as<std::string>();
+    if (std::find(known.begin(), known.end(), key) == known.end())
+      fail(kv.first,
+           where + ": unknown key '" + key + "' (quote values that contain a comma or a colon)");
+  }
+}
+
 Access access_of(const YAML::Node& node, const std::string& where) {
   const auto name = scalar<std::string>(node, where);
   for (const Access a : {Access::kRo, Access::kRw, Access::kW1c, Access::kRc, Access::kW1p}) {
@@ -73,6 +89,7 @@ Field parse_field(const YAML::Node& n, Access default_access, int data_bits,
   Field f;
   f.name = scalar<std::string>(required(n, "name", where), "name");
   const std::string at = where + "." + f.name;
+  check_keys(n, {"name", "bits", "access", "signed", "reset", "description", "enum"}, at);
   check_name(n, f.name, "field");
   const YAML::Node& bits = required(n, "bits", at);
   if (!bits.IsSequence() || bits.size() != 2)
@@ -114,6 +131,7 @@ Register parse_register(const YAML::Node& n, int data_bits, const std::string& b
   Register r;
   r.name = scalar<std::string>(required(n, "name", block), "name");
   const std::string at = block + "." + r.name;
+  check_keys(n, {"name", "offset", "access", "snapshot", "description", "fields"}, at);
   check_name(n, r.name, "register");
   r.offset = scalar<std::uint32_t>(required(n, "offset", at), at + " offset");
   r.access = access_of(required(n, "access", at), at);
@@ -138,6 +156,9 @@ Register parse_register(const YAML::Node& n, int data_bits, const std::string& b
 Block parse_block(const YAML::Node& n, int data_bits) {
   Block b;
   b.name = scalar<std::string>(required(n, "name", "block"), "block name");
+  check_keys(
+      n, {"name", "base", "description", "reserved", "size", "instances", "stride", "registers"},
+      b.name);
   check_name(n, b.name, "block");
   b.base = scalar<std::uint32_t>(required(n, "base", b.name), b.name + " base");
   b.description = text(n, "description");
@@ -242,6 +263,7 @@ RegisterMap parse(const std::string& yaml_text) {
   RegisterMap map;
   const YAML::Node& m = required(root, "map", "top level");
   map.name = scalar<std::string>(required(m, "name", "map"), "map name");
+  check_keys(m, {"name", "description", "address_bits", "data_bits"}, "map");
   check_name(m, map.name, "map");
   map.description = text(m, "description");
   map.address_bits = scalar<int>(required(m, "address_bits", "map"), "address_bits");
