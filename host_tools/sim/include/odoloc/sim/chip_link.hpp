@@ -51,7 +51,7 @@ class ChipLink final : public sw::SpiLink {
   [[nodiscard]] SpiPinMaster& master() { return master_; }
   [[nodiscard]] std::uint64_t clocks() const { return clocks_; }
 
- private:
+  // One fabric clock with these SPI pin levels; returns MISO after it.
   rtl::UInt<1> clock(rtl::UInt<1> sclk, rtl::UInt<1> cs_n, rtl::UInt<1> mosi) {
     if (stimulus_)
       stimulus_(pins_.encoders);
@@ -63,6 +63,7 @@ class ChipLink final : public sw::SpiLink {
     return chip_.miso();
   }
 
+ private:
   rtl::OdolocChip chip_;
   rtl::ChipPins pins_;
   SpiPinMaster master_;
