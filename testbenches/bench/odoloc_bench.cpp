@@ -3,8 +3,11 @@
 
 #include <array>
 
+#include "odoloc/regs.hpp"
 #include "odoloc/rtl/encoder_fabric.hpp"
+#include "odoloc/sim/chip_link.hpp"
 #include "odoloc/sim/quadrature_source.hpp"
+#include "odoloc/sw/spi_frame.hpp"
 #include "odometry_bench.hpp"
 
 namespace {
@@ -78,6 +81,38 @@ void BM_OdometryFabric_CycleStep(benchmark::State& state) {
   state.counters["updates"] = static_cast<double>(bench.fabric.sequencer().updates.value());
 }
 BENCHMARK(BM_OdometryFabric_CycleStep);
+
+// The whole chip (fabric, register file, idle SPI slave) with the four
+// encoders moving: the cost of the register side on every clock.
+void BM_OdolocChip_CycleStep(benchmark::State& state) {
+  std::array<odoloc::sim::QuadratureSource, 4> sources{
+      odoloc::sim::QuadratureSource(0.004), odoloc::sim::QuadratureSource(0.0004),
+      odoloc::sim::QuadratureSource(0.02), odoloc::sim::QuadratureSource(-0.00004)};
+  odoloc::sim::ChipLink link({.half_period = 4}, [&](auto& pins) {
+    for (std::size_t w = 0; w < 4; ++w)
+      pins[w] = sources[w].tick();
+  });
+  for (auto _ : state)
+    link.advance(1024);
+  state.SetItemsProcessed(static_cast<std::int64_t>(link.clocks()));
+}
+BENCHMARK(BM_OdolocChip_CycleStep);
+
+// Register reads through the sim target: SoC bus -> frame codec -> pin-level
+// master -> chip, 32-word bursts at the fastest legal SCLK (6.25 MHz).
+void BM_SimBus_Read32Words(benchmark::State& state) {
+  odoloc::sim::ChipLink link({.half_period = 4});
+  odoloc::sw::SpiRegisterBus bus(link, {.crc = state.range(0) != 0, .confirm_writes = false});
+  std::array<std::uint32_t, 32> words{};
+  for (auto _ : state) {
+    bus.read(odoloc::regs::eppm::kBase, words);
+    benchmark::DoNotOptimize(words);
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * words.size()));
+  state.counters["fabric_clocks_per_word"] =
+      static_cast<double>(link.clocks()) / static_cast<double>(state.iterations() * words.size());
+}
+BENCHMARK(BM_SimBus_Read32Words)->Arg(0)->Arg(1);
 
 }  // namespace
 

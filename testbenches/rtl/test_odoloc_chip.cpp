@@ -93,7 +93,7 @@ TEST(OdolocChip, EveryRegisterReadsItsResetValue) {
 TEST(OdolocChip, UnmappedAndReservedAddressesReadZeroAndRefuseWrites) {
   ChipBench b;
   for (const std::uint16_t a :
-       {std::uint16_t{0x005}, std::uint16_t{0x00F}, std::uint16_t{0x04D}, std::uint16_t{0x071},
+       {std::uint16_t{0x005}, std::uint16_t{0x00F}, std::uint16_t{0x04D}, std::uint16_t{0x087},
         std::uint16_t{0x100}, std::uint16_t{0x1FF}, std::uint16_t{0x3FF}}) {
     ASSERT_EQ(regs::find(a), nullptr);
     EXPECT_EQ(b.bus.read(a), 0U) << a;
@@ -273,6 +273,46 @@ TEST(OdolocChip, SetPoseLoadsThePoseWords) {
   EXPECT_EQ(b.link.chip().fabric().pose().theta.value(), theta);
 }
 
+// The increments of the last update and the steering, against the fabric's
+// own registers, after a drive with programmed scales.
+TEST(OdolocChip, OdometryIncrementWordsAreTheFabricsValues) {
+  namespace o = regs::odometry;
+  ChipBench b;
+  b.write("odometry.rear_ds_scale", 1U << 28);
+  b.write("odometry.rear_dtheta_scale", 1U << 26);
+  b.write("odometry.front_ds_scale", 3U << 27);
+  b.write("odometry.front_dtheta_scale", 1U << 25);
+  b.write("odometry.steer_scale", 1U << 24);
+  b.encoders.sources[0].set_rate(0.02);
+  b.encoders.sources[1].set_rate(0.03);
+  b.encoders.sources[2].set_rate(0.025);
+  b.encoders.sources[3].set_rate(-0.0004);
+  b.link.advance(40'000);  // 8 updates
+  b.stop_odometry();       // freezes the values
+  Words w(o::steer_position::kAddress - o::rear_ds_lo::kAddress + 1);
+  b.bus.read(o::rear_ds_lo::kAddress, w);
+  const auto& f = b.link.chip().fabric();
+  const auto wide = [&](std::uint16_t lo) {
+    const auto i = static_cast<std::size_t>(lo - o::rear_ds_lo::kAddress);
+    return static_cast<std::uint64_t>(w[i + 1]) << 32U | w[i];
+  };
+  const auto raw = [](auto v) { return v.as_uint().value(); };
+  EXPECT_NE(f.rear().ds.value(), 0);
+  EXPECT_NE(f.front().phi.value(), 0);
+  EXPECT_EQ(wide(o::rear_ds_lo::kAddress), raw(f.rear().ds));
+  EXPECT_EQ(wide(o::rear_dtheta_lo::kAddress), raw(f.rear().dtheta));
+  EXPECT_EQ(wide(o::front_ds_lo::kAddress), raw(f.front().ds));
+  EXPECT_EQ(wide(o::front_dtheta_lo::kAddress), raw(f.front().dtheta));
+  EXPECT_EQ(wide(o::ds_lo::kAddress), raw(f.select().ds));
+  EXPECT_EQ(wide(o::dtheta_lo::kAddress), raw(f.select().dtheta));
+  EXPECT_EQ(wide(o::steer_phi_lo::kAddress), raw(f.front().phi));
+  EXPECT_EQ(o::steer_position::counts.get_signed(w.back()), f.front().steer_position.value());
+  // Signed high words read back as the value's sign.
+  EXPECT_EQ(
+      o::steer_phi_hi::bits.get_signed(w[o::steer_phi_hi::kAddress - o::rear_ds_lo::kAddress]),
+      f.front().phi.value() >> 32);
+}
+
 // A burst over both rear counts, with identical encoder signals on both
 // wheels: without the snapshot the second count would be read ~4000 clocks
 // later, thousands of edges apart.
@@ -402,6 +442,58 @@ TEST(OdolocChip, ConfirmingBusThrowsOnRefusedWrite) {
   } catch (const BusError& e) {
     EXPECT_NE(std::string{e.what()}.find("write_refused"), std::string::npos) << e.what();
   }
+}
+
+// Activity gating of the whole chip: a gated and an ungated chip see the
+// same pins (random frames, moving encoders) and must agree on every
+// register-file and slave register and on every readable register, every clock.
+TEST(OdolocChip, GatedAndUngatedChipsAgree) {
+  odoloc::rtl::OdolocChip gated, full;
+  odoloc::rtl::ChipPins pins;
+  std::array<QuadratureSource, 4> sources{QuadratureSource(0.01), QuadratureSource(-0.2),
+                                          QuadratureSource(0.0003), QuadratureSource(0.05)};
+  std::uint64_t clocks = 0;
+  const auto step = [&](UInt<1> sclk, UInt<1> cs_n, UInt<1> mosi) {
+    for (std::size_t w = 0; w < 4; ++w)
+      pins.encoders[w] = sources[w].tick();
+    pins.sclk = sclk;
+    pins.cs_n = cs_n;
+    pins.mosi = mosi;
+    gated.step<odoloc::rtl::Gating::kOn>(pins);
+    full.step<odoloc::rtl::Gating::kOff>(pins);
+    ++clocks;
+    EXPECT_EQ(gated.spi().regs(), full.spi().regs()) << clocks;
+    EXPECT_EQ(gated.registers().regs(), full.registers().regs()) << clocks;
+    for (const regs::Register& r : regs::kRegisters) {
+      const auto a = UInt<10>::truncate(r.address);
+      if (gated.registers().read(a, gated.fabric(), gated.config()) !=
+          full.registers().read(a, full.fabric(), full.config())) {
+        ADD_FAILURE() << r.path << " differs at clock " << clocks;
+        return full.miso();
+      }
+    }
+    return full.miso();
+  };
+  std::mt19937 rng(11);
+  SpiPinMaster master({.half_period = 4});
+  for (int frame = 0; frame < 300 && !HasFailure(); ++frame) {
+    const bool read = rng() % 2 == 0;
+    const regs::Register& r = regs::kRegisters[rng() % std::size(regs::kRegisters)];
+    // Writes avoid top.ctrl (it would change the framing) and reset-like
+    // commands, but hit every other writable register, w1c and w1p included.
+    const unsigned n = 1 + static_cast<unsigned>(rng() % 4);
+    Words words(n);
+    for (auto& w : words)
+      w = static_cast<std::uint32_t>(rng());
+    const auto address = static_cast<std::uint16_t>(
+        r.address == regs::top::ctrl::kAddress ? regs::top::scratch::kAddress : r.address);
+    master.transfer(odoloc::sw::encode_frame(read ? SpiOp::kRead : SpiOp::kWrite, address, n,
+                                             words, false),
+                    step, rng() % 10 == 0 ? rng() % 80 : SpiPinMaster::kNoAbort);
+    for (auto idle = rng() % 3000; idle > 0; --idle)
+      step(UInt<1>{}, UInt<1>{1}, UInt<1>{});
+  }
+  EXPECT_GT(clocks, 300'000U);
 }
 
 }  // namespace

@@ -33,6 +33,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 
 #include "odoloc/regs.hpp"
 #include "odoloc/rtl/bits.hpp"
@@ -360,28 +361,51 @@ class FabricRegisters : public Registers<FabricRegistersRegs> {
       case o::updates::kAddress:
         w = put<o::updates::count>(w, fabric.sequencer().updates);
         break;
-      case o::pose_x_lo::kAddress:
-        w = put<o::pose_x_lo::bits>(w, fabric.pose().x.as_uint().bits<31, 0>());
-        break;
-      case o::pose_x_hi::kAddress:
-        w = put<o::pose_x_hi::bits>(w, fabric.pose().x.as_uint().bits<63, 32>());
-        break;
-      case o::pose_y_lo::kAddress:
-        w = put<o::pose_y_lo::bits>(w, fabric.pose().y.as_uint().bits<31, 0>());
-        break;
-      case o::pose_y_hi::kAddress:
-        w = put<o::pose_y_hi::bits>(w, fabric.pose().y.as_uint().bits<63, 32>());
-        break;
-      case o::pose_theta_lo::kAddress:
-        w = put<o::pose_theta_lo::bits>(w, fabric.pose().theta.bits<31, 0>());
-        break;
-      case o::pose_theta_hi::kAddress:
-        w = put<o::pose_theta_hi::bits>(w, fabric.pose().theta.bits<39, 32>());
-        break;
       default:
+        if (const auto word = live_wide(address, fabric))
+          return UInt<32>{*word};
         w = live_eppm(address, fabric, config);
     }
     return UInt<32>{w};
+  }
+
+  // The low or the high word of a value wider than 32 bits.
+  template <const regs::Field& Lo, const regs::Field& Hi, int W>
+  static std::uint32_t word_of(std::size_t address, std::uint16_t high_address, UInt<W> value) {
+    static_assert(Lo.width == 32 && Lo.width + Hi.width == W, "words and value widths differ");
+    return address == high_address ? Hi.set(0, static_cast<std::uint32_t>(value.value() >> 32U))
+                                   : Lo.set(0, static_cast<std::uint32_t>(value.value()));
+  }
+  template <const regs::Field& Lo, const regs::Field& Hi, int W>
+  static std::uint32_t word_of(std::size_t address, std::uint16_t high_address, SInt<W> value) {
+    return word_of<Lo, Hi>(address, high_address, value.as_uint());
+  }
+
+  // The odometry's wide values, split into lo/hi words.
+  [[nodiscard]] static std::optional<std::uint32_t> live_wide(std::size_t address,
+                                                              const OdometryFabric& fabric) {
+    namespace o = regs::odometry;
+#define ODOLOC_WIDE(reg, value) \
+  case o::reg##_lo::kAddress:   \
+  case o::reg##_hi::kAddress:   \
+    return word_of<o::reg##_lo::bits, o::reg##_hi::bits>(address, o::reg##_hi::kAddress, value)
+    switch (address) {
+      ODOLOC_WIDE(pose_x, fabric.pose().x);
+      ODOLOC_WIDE(pose_y, fabric.pose().y);
+      ODOLOC_WIDE(pose_theta, fabric.pose().theta);
+      ODOLOC_WIDE(rear_ds, fabric.rear().ds);
+      ODOLOC_WIDE(rear_dtheta, fabric.rear().dtheta);
+      ODOLOC_WIDE(front_ds, fabric.front().ds);
+      ODOLOC_WIDE(front_dtheta, fabric.front().dtheta);
+      ODOLOC_WIDE(ds, fabric.select().ds);
+      ODOLOC_WIDE(dtheta, fabric.select().dtheta);
+      ODOLOC_WIDE(steer_phi, fabric.front().phi);
+      case o::steer_position::kAddress:
+        return regfile::put<o::steer_position::counts>(0, fabric.front().steer_position);
+      default:
+        return std::nullopt;
+    }
+#undef ODOLOC_WIDE
   }
 
   [[nodiscard]] static std::uint32_t live_eppm(std::size_t address, const OdometryFabric& fabric,

@@ -3,7 +3,6 @@
 #pragma once
 
 #include <array>
-#include <optional>
 
 #include "odoloc/rtl/fabric_registers.hpp"
 #include "odoloc/rtl/odometry_fabric.hpp"
@@ -21,7 +20,7 @@ struct ChipPins {
 
 class OdolocChip {
  public:
-  OdolocChip() { config_ = registers_.config(); }
+  OdolocChip() { reset_now(); }
 
   template <Gating G = Gating::kOn>
   void step(const ChipPins& pins) {
@@ -38,21 +37,20 @@ class OdolocChip {
                               read_data,
                               FabricRegisters::write_refused(spi),
                               pins.reset};
-    OdometryFabric::Inputs fabric_in;
-    fabric_in.pins = pins.encoders;
-    fabric_in.reset = pins.reset;
-    registers_.drive(fabric_in);
+    fabric_in_.pins = pins.encoders;
+    fabric_in_.reset = pins.reset;
 
-    const bool registers_active = G == Gating::kOff || !registers_.idle(registers_in);
+    if (G == Gating::kOn && registers_.idle(registers_in)) {  // no SPI traffic: the common case
+      fabric_.step<G>(fabric_in_, config_);
+      clock_block<G>(spi_, spi_in);
+      return;
+    }
     const bool writes = (spi.commit & spi.commit_write) == UInt<1>{1};
-    std::optional<FabricRegisters::Regs> registers_next;
-    if (registers_active)
-      registers_next = registers_.eval(registers_in);
-
-    fabric_.step<G>(fabric_in, config_);
+    const FabricRegisters::Regs registers_next = registers_.eval(registers_in);
+    fabric_.step<G>(fabric_in_, config_);
     clock_block<G>(spi_, spi_in);
-    if (registers_next)
-      registers_.commit(*registers_next);
+    registers_.commit(registers_next);
+    registers_.drive(fabric_in_);
     if (writes || pins.reset)  // the configuration ports decode the stored words
       config_ = registers_.config();
   }
@@ -62,6 +60,7 @@ class OdolocChip {
     spi_.reset_now();
     registers_.reset_now();
     config_ = registers_.config();
+    registers_.drive(fabric_in_);
   }
 
   [[nodiscard]] UInt<1> miso() const { return spi_.regs().miso; }
@@ -81,7 +80,11 @@ class OdolocChip {
   OdometryFabric fabric_;
   SpiSlave spi_;
   FabricRegisters registers_;
-  OdometryFabricConfig config_;  // registers_.config(), kept decoded: a pure function of them
+  // registers_.config() and the fabric inputs registers_ drives, refreshed
+  // whenever registers_ changes: pure functions of its registers, kept
+  // decoded for simulation speed.
+  OdometryFabricConfig config_;
+  OdometryFabric::Inputs fabric_in_;
 };
 
 }  // namespace odoloc::rtl
