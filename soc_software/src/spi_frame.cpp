@@ -93,10 +93,12 @@ std::string describe_status(std::uint8_t status) {
 
 SpiRegisterBus::SpiRegisterBus(SpiLink& link, Options options)
     : link_(link), confirm_writes_(options.confirm_writes) {
-  if (options.crc) {
-    const std::uint32_t ctrl = read(regs::top::ctrl::kAddress);
+  // Adopt the slave's framing: a read without CRC returns its data even when
+  // the slave expects a CRC (that frame is then flagged bad_length).
+  const std::uint32_t ctrl = read(regs::top::ctrl::kAddress);
+  crc_ = regs::top::ctrl::crc_enable.get(ctrl) != 0;
+  if (options.crc && !crc_)
     write(regs::top::ctrl::kAddress, regs::top::ctrl::crc_enable.set(ctrl, 1));
-  }
 }
 
 FrameReply SpiRegisterBus::frame(SpiOp op, std::uint16_t address, unsigned count,

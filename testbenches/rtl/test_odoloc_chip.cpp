@@ -405,6 +405,16 @@ TEST(OdolocChip, CrcFramesAndCorruptedWrites) {
   EXPECT_EQ(b.read("top.ctrl"), 0U);
 }
 
+// A new bus on a board left with CRC on adopts it from top.ctrl.
+TEST(OdolocChip, NewBusAdoptsTheSlavesCrcSetting) {
+  ChipBench b;
+  b.write("top.ctrl", regs::top::ctrl::crc_enable.mask());
+  SpiRegisterBus later(b.link, {.crc = false, .confirm_writes = true});
+  EXPECT_TRUE(later.crc());
+  later.write(regs::top::scratch::kAddress, 0xC0FFEEU);
+  EXPECT_EQ(later.read(regs::top::scratch::kAddress), 0xC0FFEEU);
+}
+
 TEST(OdolocChip, Mode3ThroughCtrl) {
   ChipBench b;
   b.write("top.ctrl", regs::top::ctrl::spi_mode3.mask());
@@ -487,9 +497,9 @@ TEST(OdolocChip, GatedAndUngatedChipsAgree) {
       w = static_cast<std::uint32_t>(rng());
     const auto address = static_cast<std::uint16_t>(
         r.address == regs::top::ctrl::kAddress ? regs::top::scratch::kAddress : r.address);
-    master.transfer(odoloc::sw::encode_frame(read ? SpiOp::kRead : SpiOp::kWrite, address, n,
-                                             words, false),
-                    step, rng() % 10 == 0 ? rng() % 80 : SpiPinMaster::kNoAbort);
+    master.transfer(
+        odoloc::sw::encode_frame(read ? SpiOp::kRead : SpiOp::kWrite, address, n, words, false),
+        step, rng() % 10 == 0 ? rng() % 80 : SpiPinMaster::kNoAbort);
     for (auto idle = rng() % 3000; idle > 0; --idle)
       step(UInt<1>{}, UInt<1>{1}, UInt<1>{});
   }

@@ -100,6 +100,9 @@ class RecordingLink final : public odoloc::sw::SpiLink {
 TEST(SpiRegisterBus, LongTransfersSplitIntoBurstsOf32) {
   RecordingLink link;
   odoloc::sw::SpiRegisterBus bus(link, {.crc = false, .confirm_writes = false});
+  ASSERT_EQ(link.frames.size(), 1U);  // the constructor reads top.ctrl
+  EXPECT_EQ(link.frames[0][0] << 8 | link.frames[0][1], 0x8000 | odoloc::regs::top::ctrl::kAddress);
+  link.frames.clear();
   Words words(70);
   bus.read(0x100, words);
   ASSERT_EQ(link.frames.size(), 3U);

@@ -80,6 +80,10 @@ std::uint64_t SimTarget::clocks() const {
   return impl_->link().clocks();
 }
 
+std::chrono::nanoseconds SimTarget::elapsed() const {
+  return std::chrono::nanoseconds{static_cast<std::int64_t>(clocks() * rtl::kFabricClockPeriodNs)};
+}
+
 std::vector<std::string> SimTarget::scenarios() {
   std::vector<std::string> names{"none"};
   for (const auto& [name, make] : scenario_table())

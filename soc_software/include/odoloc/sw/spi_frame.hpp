@@ -55,14 +55,17 @@ class SpiLink {
 };
 
 // RegisterBus over SpiLink frames: bursts of at most 32 words, CRC when
-// top.ctrl.crc_enable is on. Writes to top.ctrl are followed, so the bus
-// frames the way the slave expects from the next frame on. With
+// top.ctrl.crc_enable is on. The constructor reads top.ctrl to adopt the
+// slave's CRC setting (a board may keep it from an earlier session), and
+// writes to top.ctrl are followed, so the bus frames the way the slave
+// expects from the next frame on. The SPI mode cannot be discovered: the
+// link starts in mode 0. With
 // confirm_writes, each write is followed by a one-word read of top.id whose
 // status byte reports the write's fate; a refused or discarded write throws.
 class SpiRegisterBus final : public RegisterBus {
  public:
   struct Options {
-    bool crc = false;  // switch the slave's CRC on at construction
+    bool crc = false;  // switch the slave's CRC on at construction if it is off
     bool confirm_writes = true;
   };
   SpiRegisterBus(SpiLink& link, Options options);

@@ -31,6 +31,8 @@ class SimTarget {
   // Runs the fabric for `simulated` time with cs_n high.
   void advance(std::chrono::nanoseconds simulated);
   [[nodiscard]] std::uint64_t clocks() const;
+  // Simulated time since construction.
+  [[nodiscard]] std::chrono::nanoseconds elapsed() const;
 
   // "none", then the scenario names.
   static std::vector<std::string> scenarios();

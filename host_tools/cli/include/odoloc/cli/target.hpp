@@ -1,0 +1,62 @@
+// Where the tool's register accesses go: a `Target` gives the register bus
+// and a way to let time pass. `open_target` picks the transport from the
+// --target spec through one table of target kinds:
+//   sim[:SCENARIO]              the simulated board (odoloc::sim::SimTarget)
+//   spidev:/dev/spidevB.C[@HZ]  a Linux spidev device (default 1 MHz)
+//   lcm[:...]                   remote simulator (not available yet)
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include "odoloc/sw/register_bus.hpp"
+
+namespace odoloc::cli {
+
+struct TargetOptions {
+  bool crc = false;  // switch the fabric's SPI CRC-8 on first (top.ctrl.crc_enable)
+};
+
+class Target {
+ public:
+  Target() = default;
+  Target(const Target&) = delete;
+  Target& operator=(const Target&) = delete;
+  virtual ~Target() = default;
+
+  virtual sw::RegisterBus& bus() = 0;
+  // Lets `interval` pass: simulated time on the simulator (the fabric runs
+  // for that long, instantly), wall-clock sleep on hardware.
+  virtual void wait(std::chrono::nanoseconds interval) = 0;
+  // Time since the target was opened, on the same clock as wait().
+  [[nodiscard]] virtual std::chrono::nanoseconds elapsed() const = 0;
+};
+
+inline constexpr std::uint32_t kSpidevDefaultHz = 1'000'000;
+// docs/spi.md: each SCLK level must last 4 fabric clocks at 50 MHz.
+inline constexpr std::uint32_t kSpidevMaxHz = 6'250'000;
+
+struct SpidevSpec {
+  std::string device;
+  std::uint32_t speed_hz = kSpidevDefaultHz;
+};
+// "/dev/spidev0.0" or "/dev/spidev0.0@2M" (the part after "spidev:").
+[[nodiscard]] SpidevSpec parse_spidev_spec(std::string_view argument);
+
+// Throws UsageError for a spec no target kind accepts; opens nothing.
+void check_target_spec(std::string_view spec);
+// Opens the target; UsageError for a bad spec or a device that cannot be
+// opened, sw::BusError when the first transfers fail.
+[[nodiscard]] std::unique_ptr<Target> open_target(std::string_view spec,
+                                                  const TargetOptions& options);
+
+// The target kinds' openers, given the spec after "KIND:" ("" when absent).
+[[nodiscard]] std::unique_ptr<Target> open_sim_target(std::string_view argument,
+                                                      const TargetOptions& options);
+[[nodiscard]] std::unique_ptr<Target> open_spidev_target(std::string_view argument,
+                                                         const TargetOptions& options);
+
+}  // namespace odoloc::cli

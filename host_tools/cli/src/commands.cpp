@@ -1,0 +1,462 @@
+#include "odoloc/cli/commands.hpp"
+
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cctype>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <ostream>
+#include <sstream>
+
+#include "odoloc/cli/errors.hpp"
+#include "odoloc/cli/format.hpp"
+#include "odoloc/cli/values.hpp"
+
+namespace odoloc::cli {
+namespace {
+
+constexpr std::string_view kFooter =
+    "Global options, before or after the command: -t/--target SPEC, --json, --crc.\n"
+    "Targets: sim (default), sim:SCENARIO, spidev:/dev/spidevB.C[@HZ], lcm[:URL].\n"
+    "Exit codes: 0 done, 1 bus or link error, 2 bad command, name, value, address or target.\n"
+    "Every run of `--target sim` starts a fresh simulated chip; `odoloc script` runs many\n"
+    "commands on one. Reading an rc register (reg read, dump, watch) clears it.\n"
+    "Manual: docs/host-tool.md.";
+
+template <class... F>
+struct Overloaded : F... {
+  using F::operator()...;
+};
+template <class... F>
+Overloaded(F...) -> Overloaded<F...>;  // clang 14 has no aggregate CTAD
+
+std::string one_line(std::string text) {
+  std::ranges::replace(text, '\n', ' ');
+  while (!text.empty() && text.back() == ' ')
+    text.pop_back();
+  return text;
+}
+
+std::vector<Location> resolve_all(const std::vector<std::string>& names) {
+  std::vector<Location> out;
+  out.reserve(names.size());
+  for (const std::string& n : names)
+    out.push_back(resolve(n));
+  return out;
+}
+
+bool has_rc_bits(const regs::Register& reg) {
+  return reg.access == regs::Access::kRc ||
+         std::ranges::any_of(reg.fields,
+                             [](const regs::Field& f) { return f.access == regs::Access::kRc; });
+}
+
+void check_writable(regs::Access access, const std::string& path) {
+  if (access == regs::Access::kRo)
+    throw UsageError(fmt::format("{} is read-only (ro): nothing written", path));
+  if (access == regs::Access::kRc)
+    throw UsageError(fmt::format("{} is read-to-clear (rc), not writable: nothing written", path));
+}
+
+// Reads the registers under `addresses` (sorted, unique) in bursts of
+// consecutive addresses: one frame per run, so snapshot registers read together
+// are coherent.
+std::map<std::uint16_t, std::uint32_t> read_runs(sw::RegisterBus& bus,
+                                                 std::vector<std::uint16_t> addresses) {
+  std::ranges::sort(addresses);
+  addresses.erase(std::unique(addresses.begin(), addresses.end()), addresses.end());
+  std::map<std::uint16_t, std::uint32_t> words;
+  for (std::size_t i = 0; i < addresses.size();) {
+    std::size_t j = i + 1;
+    while (j < addresses.size() && addresses[j] == addresses[j - 1] + 1)
+      ++j;
+    std::vector<std::uint32_t> burst(j - i);
+    bus.read(addresses[i], burst);
+    for (std::size_t k = 0; k < burst.size(); ++k)
+      words[addresses[i + k]] = burst[k];
+    i = j;
+  }
+  return words;
+}
+
+std::map<std::uint16_t, std::uint32_t> read_locations(sw::RegisterBus& bus,
+                                                      const std::vector<Location>& items) {
+  std::vector<std::uint16_t> addresses;
+  for (const Location& loc : items)
+    addresses.push_back(loc.address());
+  return read_runs(bus, std::move(addresses));
+}
+
+// A mistyped command word gets a better message than CLI11's: the first
+// words that are not options must name a command and a reg subcommand.
+void check_command_words(std::span<const std::string> args) {
+  static const std::vector<std::string> kCommands{"reg", "script", "wait"};
+  static const std::vector<std::string> kRegCommands{"list", "read", "write", "dump", "watch"};
+  std::vector<std::string> words;
+  for (std::size_t i = 0; i < args.size() && words.size() < 2; ++i) {
+    const std::string& a = args[i];
+    if (a == "-t" || a == "--target") {
+      ++i;  // its value
+      continue;
+    }
+    if (a.starts_with("-"))
+      continue;
+    words.push_back(a);
+    if (a != "reg")
+      break;
+  }
+  const auto check = [](const std::string& word, const std::vector<std::string>& known,
+                        std::string_view what) {
+    if (std::ranges::find(known, word) != known.end())
+      return;
+    std::string expected;
+    for (std::size_t i = 0; i < known.size(); ++i)
+      expected += (i == 0 ? "" : i + 1 == known.size() ? " or " : ", ") + known[i];
+    const auto best = std::ranges::min_element(
+        known, {}, [&](const std::string& k) { return edit_distance(word, k); });
+    const std::string hint =
+        edit_distance(word, *best) <= 2 ? fmt::format("; did you mean {}?", *best) : std::string{};
+    throw UsageError(fmt::format("unknown {} '{}'{} (expected {})", what, word, hint, expected));
+  };
+  if (words.empty())
+    throw UsageError("no command given; expected reg, script or wait (odoloc --help for usage)");
+  check(words[0], kCommands, "command");
+  if (words[0] == "reg" && words.size() == 1)
+    throw UsageError("reg needs a command: list, read, write, dump or watch");
+  if (words.size() == 2)
+    check(words[1], kRegCommands, "reg command");
+}
+
+Target& need(Target* target) {
+  if (target == nullptr)
+    throw std::logic_error("this command needs a target");
+  return *target;
+}
+
+void emit(std::ostream& out, const nlohmann::json& doc) {
+  out << doc.dump() << '\n' << std::flush;
+}
+
+void run_list(const ListCommand& cmd, std::ostream& out, bool json) {
+  std::vector<const regs::Register*> selected;
+  for (const regs::Register& r : regs::kRegisters) {
+    if (register_matches(r, cmd.filter))
+      selected.push_back(&r);
+  }
+  if (json) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const regs::Register* r : selected)
+      list.push_back(describe_json(*r));
+    emit(out, {{"registers", std::move(list)}});
+    return;
+  }
+  if (selected.empty()) {
+    out << fmt::format("no register or field matches '{}'\n", cmd.filter);
+    return;
+  }
+  out << list_text(selected);
+}
+
+void run_read(const ReadCommand& cmd, Target& target, std::ostream& out, bool json) {
+  const auto words = read_locations(target.bus(), cmd.items);
+  if (json) {
+    nlohmann::json values = nlohmann::json::array();
+    for (const Location& loc : cmd.items)
+      values.push_back(value_json(loc, words.at(loc.address())));
+    emit(out, {{"values", std::move(values)}});
+    return;
+  }
+  for (const Location& loc : cmd.items)
+    out << value_text(loc, words.at(loc.address()));
+}
+
+void run_write(const WriteCommand& cmd, Target& target, std::ostream& out, bool json) {
+  sw::RegisterBus& bus = target.bus();
+  nlohmann::json writes = nlohmann::json::array();
+  for (const Assignment& a : cmd.items) {
+    const regs::Register& reg = *a.target.reg;
+    const regs::Field* field = a.target.field;
+    std::uint32_t word = a.value;
+    std::uint32_t before = 0;
+    const WriteMode mode = a.mode();
+    if (mode == WriteMode::kReadModifyWrite) {
+      before = bus.read(reg.address);
+      word = field->set(before & reg.rw_mask, a.value);
+    } else if (mode == WriteMode::kFieldOnly) {
+      word = field->set(0, a.value);
+    }
+    bus.write(reg.address, word);
+    if (json) {
+      nlohmann::json w = {{"path", a.target.path()},
+                          {"register", reg.path},
+                          {"address", reg.address},
+                          {"word", word}};
+      w["mode"] = mode == WriteMode::kWord              ? "word"
+                  : mode == WriteMode::kReadModifyWrite ? "read-modify-write"
+                                                        : "field-only";
+      if (field != nullptr)
+        w["value"] = field_json(*field, word);
+      if (mode == WriteMode::kReadModifyWrite)
+        w["read"] = before;
+      writes.push_back(std::move(w));
+      continue;
+    }
+    const std::string target_text =
+        fmt::format("{} @ 0x{:03x} <- 0x{:08x}", reg.path, reg.address, word);
+    if (mode == WriteMode::kWord)
+      out << target_text << '\n';
+    else if (mode == WriteMode::kReadModifyWrite)
+      out << fmt::format("{} = {}: {} (read 0x{:08x})\n", a.target.path(), field_text(*field, word),
+                         target_text, before);
+    else
+      out << fmt::format("{} = {}: {} (only this field's bits)\n", a.target.path(),
+                         field_text(*field, word), target_text);
+  }
+  if (json)
+    emit(out, {{"writes", std::move(writes)}});
+}
+
+std::vector<const regs::Register*> by_address() {
+  std::vector<const regs::Register*> all;
+  for (const regs::Register& r : regs::kRegisters)
+    all.push_back(&r);
+  std::ranges::sort(all, {}, &regs::Register::address);
+  return all;
+}
+
+void run_dump(Target& target, std::ostream& out, bool json) {
+  const std::vector<const regs::Register*> all = by_address();
+  std::vector<std::uint16_t> addresses;
+  std::size_t width = 0;
+  for (const regs::Register* r : all) {
+    addresses.push_back(r->address);
+    width = std::max(width, r->path.size());
+  }
+  const auto words = read_runs(target.bus(), std::move(addresses));
+  if (json) {
+    nlohmann::json values = nlohmann::json::array();
+    for (const regs::Register* r : all)
+      values.push_back(value_json({r, nullptr}, words.at(r->address)));
+    emit(out, {{"values", std::move(values)}});
+    return;
+  }
+  for (const regs::Register* r : all)
+    out << dump_line(*r, words.at(r->address), width);
+}
+
+void run_watch(const WatchCommand& cmd, Target& target, std::ostream& out, bool json,
+               const std::atomic<bool>* stop) {
+  const auto stopped = [stop] { return stop != nullptr && stop->load(); };
+  const std::chrono::nanoseconds t0 = target.elapsed();
+  for (std::uint64_t sample = 0; cmd.count == 0 || sample < cmd.count; ++sample) {
+    if (sample > 0)
+      target.wait(cmd.interval);
+    if (stopped())
+      break;
+    const std::chrono::nanoseconds t = target.elapsed() - t0;
+    const auto words = read_locations(target.bus(), cmd.items);
+    if (json) {
+      nlohmann::json values = nlohmann::json::array();
+      for (const Location& loc : cmd.items)
+        values.push_back(value_json(loc, words.at(loc.address())));
+      emit(out, {{"sample", sample}, {"time_ns", t.count()}, {"values", std::move(values)}});
+      continue;
+    }
+    std::string line = fmt::format("{:.6f} s", std::chrono::duration<double>(t).count());
+    for (const Location& loc : cmd.items)
+      line += fmt::format("  {}", value_compact(loc, words.at(loc.address())));
+    out << line << '\n' << std::flush;
+  }
+}
+
+void run_wait(const WaitCommand& cmd, Target& target, std::ostream& out, bool json) {
+  target.wait(cmd.duration);
+  if (json)
+    emit(out, {{"waited_ns", cmd.duration.count()}});
+}
+
+}  // namespace
+
+WriteMode Assignment::mode() const {
+  if (target.field == nullptr)
+    return WriteMode::kWord;
+  return target.field->access == regs::Access::kRw ? WriteMode::kReadModifyWrite
+                                                   : WriteMode::kFieldOnly;
+}
+
+Assignment parse_assignment(std::string_view text) {
+  const std::size_t eq = text.find('=');
+  if (eq == std::string_view::npos)
+    throw UsageError(fmt::format(
+        "bad assignment '{}': expected NAME=VALUE or NAME.FIELD=VALUE (e.g. top.scratch=5)", text));
+  const std::string_view name = text.substr(0, eq);
+  const std::string_view value = text.substr(eq + 1);
+  Assignment a{resolve(name)};
+  const std::string path = a.target.path();
+  if (value.empty())
+    throw UsageError(fmt::format("missing value in '{}'", text));
+  if (a.target.field == nullptr) {
+    check_writable(a.target.reg->access, path);
+    a.value = parse_register_value(*a.target.reg, value);
+    return a;
+  }
+  check_writable(a.target.field->access, path);
+  if (a.target.field->access == regs::Access::kRw && has_rc_bits(*a.target.reg))
+    throw UsageError(fmt::format(
+        "{} shares its register with read-to-clear bits; a read-modify-write would clear them: "
+        "write the whole register",
+        path));
+  a.value = parse_field_value(*a.target.field, path, value);
+  return a;
+}
+
+std::vector<std::string> split_line(std::string_view line) {
+  std::vector<std::string> words;
+  std::string current;
+  bool in_word = false;
+  char quote = 0;
+  for (const char c : line) {
+    if (quote != 0) {
+      if (c == quote)
+        quote = 0;
+      else
+        current += c;
+      continue;
+    }
+    if (c == '#' && !in_word)
+      break;
+    if (std::isspace(static_cast<unsigned char>(c)) != 0) {
+      if (in_word)
+        words.push_back(std::exchange(current, {}));
+      in_word = false;
+      continue;
+    }
+    in_word = true;
+    if (c == '"' || c == '\'')
+      quote = c;
+    else
+      current += c;
+  }
+  if (quote != 0)
+    throw UsageError(fmt::format("unterminated {} quote", quote));
+  if (in_word)
+    words.push_back(std::move(current));
+  return words;
+}
+
+Invocation parse_invocation(std::span<const std::string> args) {
+  Invocation inv;
+  struct {
+    std::string filter, interval = "100ms", count, duration, file;
+    std::vector<std::string> names, assignments;
+  } raw;
+
+  CLI::App app{"Register access to the odoloc FPGA fabric over SPI (simulated or real).", "odoloc"};
+  app.footer(std::string{kFooter});
+  app.fallthrough();
+  app.require_subcommand(1);
+  auto* target_opt =
+      app.add_option("-t,--target", inv.target,
+                     "sim (default), sim:SCENARIO, spidev:/dev/spidevB.C[@HZ] or lcm[:URL]");
+  app.add_flag("--json", inv.json, "machine-readable output: one JSON document per line");
+  app.add_flag("--crc", inv.crc, "switch the fabric's SPI CRC-8 on (top.ctrl.crc_enable) first");
+
+  CLI::App* reg = app.add_subcommand("reg", "list, read, write, dump and watch registers");
+  reg->require_subcommand(1);
+  reg->fallthrough();
+  CLI::App* list = reg->add_subcommand("list", "every register (path, address, access, reset)");
+  list->add_option("--filter", raw.filter,
+                   "substring, or glob (* ? [..]), of register/field paths");
+  CLI::App* read = reg->add_subcommand("read", "read registers or fields, decoded");
+  read->add_option("NAME", raw.names, "register path, field path or word address (0x12, 18)")
+      ->required();
+  CLI::App* write = reg->add_subcommand("write", "write registers or fields");
+  write
+      ->add_option("ASSIGNMENT", raw.assignments,
+                   "NAME=VALUE or NAME.FIELD=VALUE: decimal, 0x hex, 0b binary, negative for "
+                   "signed fields, enumerator names")
+      ->required();
+  CLI::App* dump = reg->add_subcommand(
+      "dump", "read every mapped register in contiguous bursts (clears rc registers)");
+  CLI::App* watch = reg->add_subcommand("watch", "sample registers or fields, one line per sample");
+  watch->add_option("NAME", raw.names, "register path, field path or word address")->required();
+  watch->add_option("--interval", raw.interval,
+                    "time between samples: 100ms (default), 1s, 250us; simulated time on sim");
+  watch->add_option("--count", raw.count, "number of samples (default: until Ctrl-C)");
+  for (CLI::App* sub : {list, read, write, dump, watch})
+    sub->fallthrough();
+  CLI::App* script = app.add_subcommand(
+      "script", "run commands from FILE (or - for stdin), one per line, on one target");
+  script->add_option("FILE", raw.file, "script file, or - for standard input")->required();
+  script->fallthrough();
+  CLI::App* wait = app.add_subcommand("wait", "let time pass (simulated on sim): 100ms, 1s");
+  wait->add_option("DURATION", raw.duration, "how long")->required();
+  wait->fallthrough();
+
+  std::vector<std::string> reversed(args.rbegin(), args.rend());
+  try {
+    app.parse(reversed);
+  } catch (const CLI::CallForHelp& e) {
+    std::ostringstream help;
+    (void)app.exit(e, help, help);
+    inv.help = help.str();
+    return inv;
+  } catch (const CLI::CallForAllHelp& e) {
+    std::ostringstream help;
+    (void)app.exit(e, help, help);
+    inv.help = help.str();
+    return inv;
+  } catch (const CLI::ParseError& e) {
+    check_command_words(args);
+    throw UsageError(fmt::format("{} (odoloc --help for usage)", one_line(e.what())));
+  }
+  inv.target_given = target_opt->count() > 0;
+
+  if (list->parsed()) {
+    inv.command = ListCommand{raw.filter};
+  } else if (read->parsed()) {
+    inv.command = ReadCommand{resolve_all(raw.names)};
+  } else if (write->parsed()) {
+    WriteCommand w;
+    for (const std::string& a : raw.assignments)
+      w.items.push_back(parse_assignment(a));
+    inv.command = std::move(w);
+  } else if (dump->parsed()) {
+    inv.command = DumpCommand{};
+  } else if (watch->parsed()) {
+    WatchCommand w{resolve_all(raw.names), parse_interval(raw.interval), 0};
+    if (!raw.count.empty())
+      w.count = parse_count(raw.count);
+    inv.command = std::move(w);
+  } else if (script->parsed()) {
+    inv.command = ScriptCommand{raw.file};
+  } else if (wait->parsed()) {
+    inv.command = WaitCommand{parse_interval(raw.duration)};
+  } else {
+    throw UsageError("no command given (odoloc --help for usage)");
+  }
+  return inv;
+}
+
+bool needs_target(const Command& command) {
+  return !std::holds_alternative<ListCommand>(command);
+}
+
+void execute(const Command& command, Target* target, std::ostream& out, bool json,
+             const std::atomic<bool>* stop) {
+  std::visit(
+      Overloaded{
+          [&](const ListCommand& c) { run_list(c, out, json); },
+          [&](const ReadCommand& c) { run_read(c, need(target), out, json); },
+          [&](const WriteCommand& c) { run_write(c, need(target), out, json); },
+          [&](const DumpCommand&) { run_dump(need(target), out, json); },
+          [&](const WatchCommand& c) { run_watch(c, need(target), out, json, stop); },
+          [&](const WaitCommand& c) { run_wait(c, need(target), out, json); },
+          [&](const ScriptCommand&) { throw UsageError("a script cannot run another script"); },
+      },
+      command);
+}
+
+}  // namespace odoloc::cli

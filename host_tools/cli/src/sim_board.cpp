@@ -1,0 +1,48 @@
+// --target sim[:SCENARIO]: the simulated board in this process. Every run of
+// the tool starts a fresh chip; `odoloc script` keeps one across commands.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "odoloc/cli/errors.hpp"
+#include "odoloc/cli/target.hpp"
+#include "odoloc/sim/sim_target.hpp"
+#include "odoloc/sw/spi_frame.hpp"
+
+namespace odoloc::cli {
+namespace {
+
+class SimBoard final : public Target {
+ public:
+  SimBoard(const std::string& scenario, const TargetOptions& options)
+      : sim_({.scenario = scenario}), bus_(sim_.link(), {.crc = options.crc}) {}
+  sw::RegisterBus& bus() override { return bus_; }
+  // Simulated time: the fabric (and the scenario's robot) runs for
+  // `interval`, as fast as the model goes.
+  void wait(std::chrono::nanoseconds interval) override { sim_.advance(interval); }
+  [[nodiscard]] std::chrono::nanoseconds elapsed() const override { return sim_.elapsed(); }
+
+ private:
+  sim::SimTarget sim_;
+  sw::SpiRegisterBus bus_;
+};
+
+}  // namespace
+
+std::unique_ptr<Target> open_sim_target(std::string_view argument, const TargetOptions& options) {
+  const std::string scenario = argument.empty() ? "none" : std::string{argument};
+  const std::vector<std::string> known = sim::SimTarget::scenarios();
+  if (std::ranges::find(known, scenario) == known.end())
+    throw UsageError(fmt::format("unknown scenario '{}' for target sim; expected one of {}",
+                                 scenario, fmt::join(known, ", ")));
+  try {
+    return std::make_unique<SimBoard>(scenario, options);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(fmt::format("target sim:{}: {}", scenario, e.what()));
+  }
+}
+
+}  // namespace odoloc::cli

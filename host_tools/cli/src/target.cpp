@@ -1,0 +1,105 @@
+#include "odoloc/cli/target.hpp"
+
+#include <fmt/format.h>
+
+#include <thread>
+
+#include "odoloc/cli/errors.hpp"
+#include "odoloc/cli/spidev_link.hpp"
+#include "odoloc/cli/values.hpp"
+#include "odoloc/sw/spi_frame.hpp"
+
+namespace odoloc::cli {
+namespace {
+
+class SpidevTarget final : public Target {
+ public:
+  SpidevTarget(const SpidevSpec& spec, const TargetOptions& options)
+      : link_(spec.device, spec.speed_hz), bus_(link_, {.crc = options.crc}) {}
+  sw::RegisterBus& bus() override { return bus_; }
+  void wait(std::chrono::nanoseconds interval) override { std::this_thread::sleep_for(interval); }
+  [[nodiscard]] std::chrono::nanoseconds elapsed() const override {
+    return std::chrono::steady_clock::now() - start_;
+  }
+
+ private:
+  SpidevLink link_;
+  sw::SpiRegisterBus bus_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+std::unique_ptr<Target> open_lcm_target(std::string_view /*argument*/,
+                                        const TargetOptions& /*options*/) {
+  throw UsageError("target lcm is not available yet");
+}
+
+// One row per kind of target; a new transport is one opener and one row.
+using Opener = std::unique_ptr<Target> (*)(std::string_view argument, const TargetOptions&);
+struct TargetKind {
+  std::string_view name;
+  std::string_view syntax;
+  Opener open;
+  bool any_suffix;  // "lcm..." as well as "lcm" and "lcm:..."
+};
+constexpr TargetKind kTargetKinds[] = {
+    {"sim", "sim[:SCENARIO]", open_sim_target, false},
+    {"spidev", "spidev:/dev/spidevB.C[@HZ]", open_spidev_target, false},
+    {"lcm", "lcm[:URL]", open_lcm_target, true},
+};
+
+struct Match {
+  const TargetKind* kind;
+  std::string_view argument;
+};
+
+Match match(std::string_view spec) {
+  for (const TargetKind& k : kTargetKinds) {
+    if (spec == k.name)
+      return {&k, {}};
+    if (spec.starts_with(k.name) && spec.size() > k.name.size() && spec[k.name.size()] == ':')
+      return {&k, spec.substr(k.name.size() + 1)};
+    if (k.any_suffix && spec.starts_with(k.name))
+      return {&k, spec.substr(k.name.size())};
+  }
+  std::string expected;
+  for (std::size_t i = 0; i < std::size(kTargetKinds); ++i) {
+    if (i > 0)
+      expected += i + 1 == std::size(kTargetKinds) ? " or " : ", ";
+    expected += kTargetKinds[i].syntax;
+  }
+  throw UsageError(fmt::format("unknown target '{}'; expected {}", spec, expected));
+}
+
+}  // namespace
+
+SpidevSpec parse_spidev_spec(std::string_view argument) {
+  SpidevSpec spec;
+  const std::size_t at = argument.rfind('@');
+  spec.device = std::string{argument.substr(0, at)};
+  if (spec.device.empty())
+    throw UsageError("target spidev needs a device: spidev:/dev/spidevB.C[@HZ]");
+  if (at != std::string_view::npos)
+    spec.speed_hz = parse_frequency(argument.substr(at + 1));
+  if (spec.speed_hz > kSpidevMaxHz)
+    throw UsageError(fmt::format(
+        "SPI clock {} Hz is above the fabric's limit of {} Hz (4 fabric clocks per SCLK level, "
+        "docs/spi.md)",
+        spec.speed_hz, kSpidevMaxHz));
+  return spec;
+}
+
+std::unique_ptr<Target> open_spidev_target(std::string_view argument,
+                                           const TargetOptions& options) {
+  return std::make_unique<SpidevTarget>(parse_spidev_spec(argument), options);
+}
+
+void check_target_spec(std::string_view spec) {
+  (void)match(spec);
+}
+
+std::unique_ptr<Target> open_target(std::string_view spec, const TargetOptions& options) {
+  const Match m = match(spec);
+  return m.kind->open(m.argument, options);
+}
+
+}  // namespace odoloc::cli

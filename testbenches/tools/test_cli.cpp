@@ -1,0 +1,786 @@
+// The host tool's logic, in process: name resolution and closest matches,
+// value parsing in every base (signed, enums, range errors), formatting, and
+// every command run through run_cli() against an in-memory register file
+// that records the bus traffic. Expected values come from odoloc/regs.hpp.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <functional>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "odoloc/cli/app.hpp"
+#include "odoloc/cli/commands.hpp"
+#include "odoloc/cli/errors.hpp"
+#include "odoloc/cli/format.hpp"
+#include "odoloc/cli/names.hpp"
+#include "odoloc/cli/target.hpp"
+#include "odoloc/cli/values.hpp"
+#include "odoloc/regs.hpp"
+
+namespace {
+
+namespace regs = odoloc::regs;
+namespace cli = odoloc::cli;
+using cli::UsageError;
+using nlohmann::json;
+
+// ---------------------------------------------------------------- helpers
+
+std::string field_path(const regs::Register& r, const regs::Field& f) {
+  return std::string{r.path} + "." + std::string{f.name};
+}
+
+std::string enum_name(const regs::Field& f, std::uint32_t value) {
+  for (const regs::Enumerator& e : f.enums) {
+    if (e.value == value)
+      return std::string{e.name};
+  }
+  ADD_FAILURE() << "no enumerator " << value << " in " << f.name;
+  return {};
+}
+
+std::string message_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const UsageError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no UsageError";
+  return {};
+}
+
+// The fabric's register semantics from the generated masks: rw bits store,
+// w1c bits clear where 1 is written, w1p bits pulse (read 0), rc registers
+// clear when read. Every transfer is logged.
+class FakeBus final : public odoloc::sw::RegisterBus {
+ public:
+  struct Transfer {
+    bool read;
+    std::uint16_t address;
+    std::vector<std::uint32_t> words;
+  };
+
+  FakeBus() {
+    for (const regs::Register& r : regs::kRegisters)
+      words_[r.address] = r.reset;
+  }
+  using RegisterBus::read;
+  using RegisterBus::write;
+  void read(std::uint16_t address, std::span<std::uint32_t> out) override {
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      const auto a = static_cast<std::uint16_t>(address + i);
+      const regs::Register* r = regs::find(std::uint32_t{a});
+      out[i] = r != nullptr ? words_[a] : 0;
+      if (r != nullptr && r->access == regs::Access::kRc)
+        words_[a] = 0;
+    }
+    log.push_back({true, address, {out.begin(), out.end()}});
+  }
+  void write(std::uint16_t address, std::span<const std::uint32_t> in) override {
+    log.push_back({false, address, {in.begin(), in.end()}});
+    if (fail_writes)
+      throw odoloc::sw::BusError("SPI write failed: write_refused");
+    for (std::size_t i = 0; i < in.size(); ++i) {
+      const auto a = static_cast<std::uint16_t>(address + i);
+      const regs::Register* r = regs::find(std::uint32_t{a});
+      if (r == nullptr)
+        throw odoloc::sw::BusError("unmapped");
+      std::uint32_t& w = words_[a];
+      w = (w & ~r->rw_mask) | (in[i] & r->rw_mask);
+      w &= ~(in[i] & r->w1c_mask);
+    }
+  }
+  std::uint32_t& word(std::uint16_t address) { return words_.at(address); }
+
+  std::vector<Transfer> log;
+  bool fail_writes = false;
+
+ private:
+  std::map<std::uint16_t, std::uint32_t> words_;
+};
+
+// The bus and the log of waits outlive the target, which run_cli destroys.
+class FakeTarget final : public cli::Target {
+ public:
+  FakeTarget(FakeBus& bus, std::vector<std::chrono::nanoseconds>& waits)
+      : bus_(bus), waits_(waits) {}
+  odoloc::sw::RegisterBus& bus() override { return bus_; }
+  void wait(std::chrono::nanoseconds interval) override {
+    waits_.push_back(interval);
+    now_ += interval;
+  }
+  [[nodiscard]] std::chrono::nanoseconds elapsed() const override { return now_; }
+
+ private:
+  FakeBus& bus_;
+  std::vector<std::chrono::nanoseconds>& waits_;
+  std::chrono::nanoseconds now_{};
+};
+
+// run_cli in process on one FakeBus; counts how often a target was opened.
+struct Harness {
+  FakeBus bus;
+  std::vector<std::chrono::nanoseconds> waits;
+  int opened = 0;
+  std::string last_spec;
+  bool last_crc = false;
+  std::string out, err;
+
+  int run(std::vector<std::string> args, const std::string& input = {}) {
+    std::istringstream in(input);
+    std::ostringstream o, e;
+    const cli::TargetOpener opener = [this](std::string_view spec,
+                                            const cli::TargetOptions& options) {
+      ++opened;
+      last_spec = spec;
+      last_crc = options.crc;
+      return std::make_unique<FakeTarget>(bus, waits);
+    };
+    const int code = cli::run_cli(args, {in, o, e}, opener);
+    out = o.str();
+    err = e.str();
+    return code;
+  }
+  std::vector<json> json_lines() const {
+    std::vector<json> docs;
+    std::istringstream s(out);
+    for (std::string line; std::getline(s, line);)
+      docs.push_back(json::parse(line));
+    return docs;
+  }
+};
+
+// Consecutive-address runs of the register map, the bursts `reg dump` uses.
+std::vector<std::pair<std::uint16_t, std::size_t>> address_runs() {
+  std::vector<std::uint16_t> a;
+  for (const regs::Register& r : regs::kRegisters)
+    a.push_back(r.address);
+  std::ranges::sort(a);
+  std::vector<std::pair<std::uint16_t, std::size_t>> runs;
+  for (const std::uint16_t x : a) {
+    if (!runs.empty() && runs.back().first + runs.back().second == x)
+      ++runs.back().second;
+    else
+      runs.emplace_back(x, 1);
+  }
+  return runs;
+}
+
+// ---------------------------------------------------------------- names
+
+TEST(CliNames, EveryRegisterAndFieldPathResolves) {
+  for (const regs::Register& r : regs::kRegisters) {
+    const cli::Location loc = cli::resolve(r.path);
+    EXPECT_EQ(loc.reg, &r);
+    EXPECT_EQ(loc.field, nullptr);
+    EXPECT_EQ(loc.path(), r.path);
+    for (const regs::Field& f : r.fields) {
+      const cli::Location fl = cli::resolve(field_path(r, f));
+      EXPECT_EQ(fl.reg, &r);
+      ASSERT_NE(fl.field, nullptr);
+      EXPECT_EQ(fl.field->name, f.name);
+      EXPECT_EQ(fl.field->lsb, f.lsb);
+      EXPECT_EQ(fl.path(), field_path(r, f));
+    }
+  }
+}
+
+TEST(CliNames, AddressesInEveryBaseResolveToTheRegisterThere) {
+  for (const regs::Register& r : regs::kRegisters) {
+    std::string bin;
+    for (unsigned v = r.address; v != 0; v >>= 1)
+      bin.insert(bin.begin(), static_cast<char>('0' + (v & 1U)));
+    for (const std::string& text :
+         {std::to_string(r.address), fmt::format("0x{:x}", r.address),
+          fmt::format("0X{:03X}", r.address), "0b" + (bin.empty() ? "0" : bin)}) {
+      SCOPED_TRACE(text);
+      EXPECT_EQ(cli::resolve(text).reg, &r);
+    }
+  }
+}
+
+TEST(CliNames, UnmappedReservedAndOutOfRangeAddressesAreClearErrors) {
+  std::uint16_t hole = 0;
+  while (regs::find(std::uint32_t{hole}) != nullptr)
+    ++hole;
+  EXPECT_NE(message_of([&] { (void)cli::resolve(std::to_string(hole)); }).find("unmapped"),
+            std::string::npos);
+  const regs::Reserved& reserved = regs::kReserved[0];
+  const std::string m =
+      message_of([&] { (void)cli::resolve(fmt::format("0x{:x}", reserved.base + 1)); });
+  EXPECT_NE(m.find(reserved.name), std::string::npos) << m;
+  const auto space = std::uint32_t{1} << regs::kAddressBits;
+  EXPECT_NE(message_of([&] { (void)cli::resolve(std::to_string(space)); }).find("out of range"),
+            std::string::npos);
+  EXPECT_NO_THROW((void)cli::parse_address(std::to_string(space - 1)));
+  EXPECT_THROW((void)cli::resolve("-1"), UsageError);
+}
+
+TEST(CliNames, UnknownRegisterSuggestsTheClosest) {
+  const std::string m = message_of([] { (void)cli::resolve("eppm.left_rear.cnt"); });
+  EXPECT_NE(m.find("unknown register 'eppm.left_rear.cnt'"), std::string::npos) << m;
+  EXPECT_NE(m.find("did you mean eppm.left_rear.count"), std::string::npos) << m;
+  // Bare tails find their register.
+  EXPECT_NE(message_of([] { (void)cli::resolve("scratch"); }).find("top.scratch"),
+            std::string::npos);
+  EXPECT_NE(message_of([] { (void)cli::resolve("scartch"); }).find("top.scratch"),
+            std::string::npos);
+  // Far from everything: no wild guess, a pointer to the list.
+  const std::string far = message_of([] { (void)cli::resolve("zzz"); });
+  EXPECT_EQ(far.find("did you mean"), std::string::npos) << far;
+  EXPECT_NE(far.find("reg list"), std::string::npos) << far;
+}
+
+TEST(CliNames, EveryPathWithOneTypoIsSuggestedBack) {
+  for (const std::string& path : cli::all_paths()) {
+    // Drop a letter from the last component, and swap two letters there.
+    const std::size_t pos = path.rfind('.') + 2;
+    if (pos + 1 >= path.size())
+      continue;
+    std::string dropped = path;
+    dropped.erase(pos, 1);
+    std::string swapped = path;
+    std::swap(swapped[pos], swapped[pos + 1]);
+    for (const std::string& typo : {dropped, swapped}) {
+      if (typo == path || regs::find(typo) != nullptr)
+        continue;
+      SCOPED_TRACE(typo);
+      const std::vector<std::string> near = cli::closest_paths(typo);
+      EXPECT_NE(std::ranges::find(near, path), near.end());
+      const std::string m = message_of([&] { (void)cli::resolve(typo); });
+      EXPECT_NE(m.find(path), std::string::npos) << m;
+    }
+  }
+}
+
+TEST(CliNames, UnknownFieldOfAKnownRegisterNamesItsFields) {
+  const std::string near = message_of([] { (void)cli::resolve("eppm.left_rear.cfg.decode"); });
+  EXPECT_NE(near.find("unknown field"), std::string::npos) << near;
+  EXPECT_NE(near.find("eppm.left_rear.cfg.decode_mode"), std::string::npos) << near;
+  const std::string far = message_of([] { (void)cli::resolve("eppm.left_rear.cfg.xyzzy"); });
+  for (const regs::Field& f : regs::eppm::cfg::kFields)
+    EXPECT_NE(far.find(f.name), std::string::npos) << far;
+}
+
+TEST(CliNames, EditDistance) {
+  EXPECT_EQ(cli::edit_distance("", ""), 0U);
+  EXPECT_EQ(cli::edit_distance("abc", ""), 3U);
+  EXPECT_EQ(cli::edit_distance("kitten", "sitting"), 3U);
+  EXPECT_EQ(cli::edit_distance("scratch", "scartch"), 1U);  // one transposition
+  EXPECT_EQ(cli::edit_distance("Count", "count"), 0U);      // case-insensitive
+  EXPECT_EQ(cli::edit_distance("cnt", "count"), 2U);
+}
+
+TEST(CliNames, FiltersAreSubstringsOrPerComponentGlobs) {
+  EXPECT_TRUE(cli::path_matches("eppm.left_rear.count", "left"));
+  EXPECT_FALSE(cli::path_matches("top.id", "left"));
+  EXPECT_TRUE(cli::path_matches("eppm.left_rear.count", "eppm.*.count"));
+  EXPECT_FALSE(cli::path_matches("eppm.left_rear.error_count.count", "eppm.*.count"));
+  EXPECT_TRUE(cli::path_matches("top.id", "top.?d"));
+  EXPECT_TRUE(cli::path_matches("top.id", ""));
+  // A register matches through its fields too.
+  EXPECT_TRUE(cli::register_matches(*regs::find("eppm.left_rear.cfg"), "decode_mode"));
+  std::size_t counts = 0;
+  for (const regs::Register& r : regs::kRegisters)
+    counts += cli::register_matches(r, "eppm.*.count") ? 1U : 0U;
+  EXPECT_EQ(counts, regs::eppm::kInstances);
+}
+
+// ---------------------------------------------------------------- values
+
+TEST(CliValues, NumbersInEveryBase) {
+  EXPECT_EQ(cli::parse_number("0").magnitude, 0U);
+  EXPECT_EQ(cli::parse_number("42").magnitude, 42U);
+  EXPECT_EQ(cli::parse_number("007").magnitude, 7U);  // decimal, never octal
+  EXPECT_EQ(cli::parse_number("0x2A").magnitude, 42U);
+  EXPECT_EQ(cli::parse_number("0Xff").magnitude, 255U);
+  EXPECT_EQ(cli::parse_number("0b101010").magnitude, 42U);
+  EXPECT_EQ(cli::parse_number("0b1010_1010").magnitude, 0xAAU);
+  EXPECT_EQ(cli::parse_number("0x0D01_0001").magnitude, 0x0D010001U);
+  EXPECT_EQ(cli::parse_number("18446744073709551615").magnitude, UINT64_MAX);
+  const cli::Number neg = cli::parse_number("-0x10");
+  EXPECT_TRUE(neg.negative);
+  EXPECT_EQ(neg.magnitude, 16U);
+  EXPECT_EQ(neg.base, 16U);
+  for (const char* bad : {"", "-", "0x", "0b2", "12a", "0xfg", "1__0", "_1", "1_", "abc"})
+    EXPECT_THROW((void)cli::parse_number(bad), UsageError) << bad;
+  EXPECT_NE(message_of([] { (void)cli::parse_number("18446744073709551616"); }).find("too large"),
+            std::string::npos);
+}
+
+// Every field of the map: the full range in, one past either end out.
+TEST(CliValues, EveryFieldIsRangeCheckedAgainstItsWidth) {
+  for (const regs::Register& r : regs::kRegisters) {
+    for (const regs::Field& f : r.fields) {
+      const std::string path = field_path(r, f);
+      SCOPED_TRACE(path);
+      const std::uint64_t max_raw = (std::uint64_t{1} << f.width) - 1;
+      if (!f.enums.empty()) {
+        for (const regs::Enumerator& e : f.enums) {
+          EXPECT_EQ(cli::parse_field_value(f, path, e.name), e.value);
+          EXPECT_EQ(cli::parse_field_value(f, path, std::to_string(e.value)), e.value);
+        }
+        const std::string m = message_of([&] { (void)cli::parse_field_value(f, path, "bogus"); });
+        for (const regs::Enumerator& e : f.enums)
+          EXPECT_NE(m.find(e.name), std::string::npos) << m;
+        continue;
+      }
+      if (f.is_signed) {
+        const std::int64_t min = -(std::int64_t{1} << (f.width - 1));
+        const std::int64_t max = (std::int64_t{1} << (f.width - 1)) - 1;
+        // Two's complement: max is 0b0111..., min 0b1000..., -1 all ones.
+        EXPECT_EQ(cli::parse_field_value(f, path, std::to_string(max)), max_raw >> 1);
+        EXPECT_EQ(cli::parse_field_value(f, path, std::to_string(min)), (max_raw >> 1) + 1);
+        EXPECT_EQ(cli::parse_field_value(f, path, "-1"), max_raw);
+        EXPECT_EQ(cli::field_signed(f, f.set(0, static_cast<std::uint32_t>(max_raw >> 1) + 1U)),
+                  min);
+        EXPECT_EQ(cli::field_signed(f, f.mask()), -1);
+        EXPECT_EQ(cli::parse_field_value(f, path, fmt::format("0x{:x}", max_raw)), max_raw);
+        EXPECT_THROW((void)cli::parse_field_value(f, path, std::to_string(max + 1)), UsageError);
+        EXPECT_THROW((void)cli::parse_field_value(f, path, std::to_string(min - 1)), UsageError);
+        EXPECT_THROW((void)cli::parse_field_value(f, path, fmt::format("0x{:x}", max_raw + 1)),
+                     UsageError);
+        continue;
+      }
+      EXPECT_EQ(cli::parse_field_value(f, path, std::to_string(max_raw)), max_raw);
+      EXPECT_EQ(cli::parse_field_value(f, path, fmt::format("0x{:x}", max_raw)), max_raw);
+      EXPECT_EQ(cli::parse_field_value(f, path, "0b" + std::string(f.width, '1')), max_raw);
+      EXPECT_EQ(cli::parse_field_value(f, path, std::to_string(f.reset)), f.reset);
+      const std::string over =
+          message_of([&] { (void)cli::parse_field_value(f, path, std::to_string(max_raw + 1)); });
+      EXPECT_NE(over.find("out of range"), std::string::npos) << over;
+      EXPECT_NE(over.find(path), std::string::npos) << over;
+      EXPECT_NE(over.find(std::to_string(max_raw)), std::string::npos) << over;
+      EXPECT_THROW((void)cli::parse_field_value(f, path, "-1"), UsageError);
+      EXPECT_THROW((void)cli::parse_field_value(f, path, "x2"), UsageError);
+    }
+  }
+}
+
+TEST(CliValues, EnumNumbersMustBeEncodings) {
+  const regs::Field& f = regs::eppm::cfg::decode_mode;
+  std::uint32_t unused = 0;
+  while (std::ranges::any_of(f.enums, [&](const regs::Enumerator& e) { return e.value == unused; }))
+    ++unused;
+  ASSERT_LT(unused, 1U << f.width);
+  EXPECT_THROW((void)cli::parse_field_value(f, "d", std::to_string(unused)), UsageError);
+  EXPECT_EQ(cli::parse_field_value(f, "d", "X2"),
+            static_cast<std::uint32_t>(regs::eppm::cfg::DecodeMode::kX2));
+}
+
+TEST(CliValues, RegisterWords) {
+  const regs::Register& scratch = *regs::find("top.scratch");
+  EXPECT_EQ(cli::parse_register_value(scratch, "0xffffffff"), 0xffffffffU);
+  EXPECT_EQ(cli::parse_register_value(scratch, "4294967295"), 0xffffffffU);
+  EXPECT_THROW((void)cli::parse_register_value(scratch, "0x100000000"), UsageError);
+  EXPECT_THROW((void)cli::parse_register_value(scratch, "-1"), UsageError);
+  EXPECT_THROW((void)cli::parse_register_value(scratch, "five"), UsageError);
+  // Bits outside every field of the register are refused.
+  const regs::Register& cfg = *regs::find("eppm.left_rear.cfg");
+  std::uint32_t fields = 0;
+  for (const regs::Field& f : cfg.fields)
+    fields |= f.mask();
+  ASSERT_NE(~fields, 0U);
+  EXPECT_EQ(cli::parse_register_value(cfg, fmt::format("{}", fields)), fields);
+  const std::uint32_t rest = ~fields;
+  const std::uint32_t outside = rest & (0U - rest);  // the lowest bit outside the fields
+  EXPECT_THROW((void)cli::parse_register_value(cfg, fmt::format("0x{:x}", outside)), UsageError);
+}
+
+TEST(CliValues, Intervals) {
+  using std::chrono::nanoseconds;
+  EXPECT_EQ(cli::parse_interval("100ms"), nanoseconds{100'000'000});
+  EXPECT_EQ(cli::parse_interval("1s"), nanoseconds{1'000'000'000});
+  EXPECT_EQ(cli::parse_interval("250us"), nanoseconds{250'000});
+  EXPECT_EQ(cli::parse_interval("20ns"), nanoseconds{20});
+  EXPECT_EQ(cli::parse_interval("1.5s"), nanoseconds{1'500'000'000});
+  EXPECT_EQ(cli::parse_interval("0.25ms"), nanoseconds{250'000});
+  EXPECT_EQ(cli::parse_interval("10MS"), nanoseconds{10'000'000});
+  for (const char* bad : {"100", "ms", "0ms", "-1s", "1h", "1.s.", "", "1 s", "99999999999s"})
+    EXPECT_THROW((void)cli::parse_interval(bad), UsageError) << bad;
+}
+
+TEST(CliValues, CountsAndFrequencies) {
+  EXPECT_EQ(cli::parse_count("3"), 3U);
+  for (const char* bad : {"0", "-1", "x", ""})
+    EXPECT_THROW((void)cli::parse_count(bad), UsageError) << bad;
+  EXPECT_EQ(cli::parse_frequency("1000000"), 1'000'000U);
+  EXPECT_EQ(cli::parse_frequency("500k"), 500'000U);
+  EXPECT_EQ(cli::parse_frequency("2M"), 2'000'000U);
+  EXPECT_EQ(cli::parse_frequency("2MHz"), 2'000'000U);
+  EXPECT_EQ(cli::parse_frequency("1.5M"), 1'500'000U);
+  for (const char* bad : {"0", "fast", "1G", "", "5000000000"})
+    EXPECT_THROW((void)cli::parse_frequency(bad), UsageError) << bad;
+}
+
+// ---------------------------------------------------------------- targets
+
+TEST(CliTargets, SpecsAreCheckedWithoutOpening) {
+  for (const char* good : {"sim", "sim:straight", "spidev:/dev/spidev0.0", "lcm", "lcm:udpm://x"})
+    EXPECT_NO_THROW(cli::check_target_spec(good)) << good;
+  for (const char* bad : {"", "foo", "simulator", "spi:/dev/spidev0.0"})
+    EXPECT_THROW(cli::check_target_spec(bad), UsageError) << bad;
+  EXPECT_NE(message_of([] { (void)cli::open_target("lcm", {}); }).find("not available yet"),
+            std::string::npos);
+}
+
+TEST(CliTargets, SpidevSpecs) {
+  const cli::SpidevSpec plain = cli::parse_spidev_spec("/dev/spidev0.0");
+  EXPECT_EQ(plain.device, "/dev/spidev0.0");
+  EXPECT_EQ(plain.speed_hz, cli::kSpidevDefaultHz);
+  const cli::SpidevSpec fast = cli::parse_spidev_spec("/dev/spidev1.2@2M");
+  EXPECT_EQ(fast.device, "/dev/spidev1.2");
+  EXPECT_EQ(fast.speed_hz, 2'000'000U);
+  EXPECT_EQ(cli::parse_spidev_spec(fmt::format("/dev/x@{}", cli::kSpidevMaxHz)).speed_hz,
+            cli::kSpidevMaxHz);
+  EXPECT_THROW((void)cli::parse_spidev_spec(fmt::format("/dev/x@{}", cli::kSpidevMaxHz + 1)),
+               UsageError);
+  EXPECT_THROW((void)cli::parse_spidev_spec(""), UsageError);
+  EXPECT_THROW((void)cli::parse_spidev_spec("@1M"), UsageError);
+  EXPECT_THROW((void)cli::parse_spidev_spec("/dev/x@fast"), UsageError);
+}
+
+TEST(CliTargets, MissingSpidevDeviceIsAClearError) {
+  const std::string device = "/nonexistent-odoloc/spidev0.0";
+  const std::string m = message_of([&] { (void)cli::open_target("spidev:" + device, {}); });
+  EXPECT_EQ(m, "cannot open " + device + ": " + std::strerror(ENOENT));
+}
+
+// ---------------------------------------------------------------- formatting
+
+TEST(CliFormat, FieldsDecodeThroughTheMap) {
+  using namespace regs::eppm;
+  const std::uint32_t cfg_word = cfg::decode_mode.set(cfg::kReset, 1);
+  EXPECT_EQ(cli::field_compact(cfg::decode_mode, cfg_word), cfg::kDecodeModeNames[1].name);
+  EXPECT_EQ(cli::field_text(cfg::decode_mode, cfg_word),
+            fmt::format("{} (1)", cfg::kDecodeModeNames[1].name));
+  EXPECT_EQ(cli::field_json(cfg::decode_mode, cfg_word), json(cfg::kDecodeModeNames[1].name));
+  const std::uint32_t unnamed = cfg::decode_mode.set(0, 3);
+  EXPECT_EQ(cli::field_json(cfg::decode_mode, unnamed), json(3));
+  EXPECT_NE(cli::field_text(cfg::decode_mode, unnamed).find("no enumerator"), std::string::npos);
+
+  const std::uint32_t minus5 = count::value.set(0, static_cast<std::uint32_t>(-5));
+  EXPECT_EQ(cli::field_compact(count::value, minus5), "-5");
+  EXPECT_EQ(cli::field_json(count::value, minus5), json(-5));
+  EXPECT_EQ(cli::field_text(count::value, minus5),
+            fmt::format("-5 (0x{:05x})", count::value.get(minus5)));
+
+  const auto& magic = regs::top::id::magic;
+  EXPECT_EQ(cli::field_text(magic, regs::top::id::kReset),
+            fmt::format("{} (0x{:04x})", magic.reset, magic.reset));
+  EXPECT_EQ(cli::field_text(regs::top::ctrl::crc_enable, 1), "1");
+  EXPECT_EQ(cli::bit_range(magic), "31:16");
+  EXPECT_EQ(cli::bit_range(regs::top::ctrl::spi_mode3), "1");
+  EXPECT_EQ(cli::access_name(regs::Access::kW1c), "w1c");
+}
+
+// Every signed field of the map, 32-bit ones included: -1, min and max.
+TEST(CliFormat, SignedFieldsOfEveryWidthDecode) {
+  std::size_t seen = 0;
+  for (const regs::Register& r : regs::kRegisters) {
+    for (const regs::Field& f : r.fields) {
+      if (!f.is_signed)
+        continue;
+      ++seen;
+      SCOPED_TRACE(field_path(r, f));
+      const std::int64_t min = -(std::int64_t{1} << (f.width - 1));
+      const std::uint32_t min_word =
+          f.set(0, static_cast<std::uint32_t>(std::uint64_t{1} << (f.width - 1)));
+      EXPECT_EQ(cli::field_json(f, f.mask()), json(-1));
+      EXPECT_EQ(cli::field_json(f, min_word), json(min));
+      EXPECT_EQ(cli::field_json(f, f.mask() & ~min_word), json(-min - 1));
+      EXPECT_EQ(cli::field_compact(f, ~f.mask()), "0");
+      EXPECT_EQ(cli::field_text(f, f.mask()),
+                fmt::format("-1 (0x{:0{}x})", f.get(f.mask()), (f.width + 3) / 4));
+    }
+  }
+  EXPECT_GT(seen, 0U);
+}
+
+TEST(CliFormat, ValueJsonOfRegistersAndFields) {
+  const regs::Register& id = *regs::find("top.id");
+  const json r = cli::value_json({&id, nullptr}, id.reset);
+  EXPECT_EQ(r["path"], "top.id");
+  EXPECT_EQ(r["address"], id.address);
+  EXPECT_EQ(r["value"], id.reset);
+  for (const regs::Field& f : id.fields)
+    EXPECT_EQ(r["fields"][std::string{f.name}], f.get(id.reset));
+  const json f = cli::value_json(cli::resolve("top.id.magic"), id.reset);
+  EXPECT_EQ(f["register"], "top.id");
+  EXPECT_EQ(f["value"], regs::top::id::magic.reset);
+  EXPECT_EQ(f["word"], id.reset);
+}
+
+TEST(CliFormat, DescribeJsonCarriesEveryField) {
+  for (const regs::Register& r : regs::kRegisters) {
+    const json d = cli::describe_json(r);
+    EXPECT_EQ(d["path"], std::string{r.path});
+    EXPECT_EQ(d["address"], r.address);
+    EXPECT_EQ(d["reset"], r.reset);
+    EXPECT_EQ(d["access"], std::string{cli::access_name(r.access)});
+    ASSERT_EQ(d["fields"].size(), r.fields.size());
+    for (std::size_t i = 0; i < r.fields.size(); ++i) {
+      const regs::Field& f = r.fields[i];
+      const json& jf = d["fields"][i];
+      EXPECT_EQ(jf["name"], std::string{f.name});
+      EXPECT_EQ(jf["bits"], json({f.lsb + f.width - 1, f.lsb}));
+      EXPECT_EQ(jf["signed"], f.is_signed);
+      EXPECT_EQ(jf["reset"], f.reset);
+      EXPECT_EQ(jf["enums"].size(), f.enums.size());
+    }
+  }
+}
+
+// ---------------------------------------------------------------- commands
+
+TEST(CliCommands, AssignmentsPickTheWriteMode) {
+  EXPECT_EQ(cli::parse_assignment("top.scratch=5").mode(), cli::WriteMode::kWord);
+  EXPECT_EQ(cli::parse_assignment("eppm.left_rear.cfg.decode_mode=x2").mode(),
+            cli::WriteMode::kReadModifyWrite);
+  EXPECT_EQ(cli::parse_assignment("eppm.left_rear.status.carry=1").mode(),
+            cli::WriteMode::kFieldOnly);
+  EXPECT_EQ(cli::parse_assignment("odometry.command.set_pose=1").mode(),
+            cli::WriteMode::kFieldOnly);
+  EXPECT_EQ(cli::parse_assignment(fmt::format("0x{:x}=7", regs::top::scratch::kAddress)).target.reg,
+            regs::find("top.scratch"));
+  for (const char* bad :
+       {"top.scratch", "top.scratch=", "=5", "top.id=1", "top.id.magic=1", "top.frame_errors=0",
+        "eppm.left_rear.status.forward=1", "eppm.left_rear.count=-1"})
+    EXPECT_THROW((void)cli::parse_assignment(bad), UsageError) << bad;
+  EXPECT_NE(message_of([] { (void)cli::parse_assignment("top.id=1"); }).find("read-only"),
+            std::string::npos);
+}
+
+TEST(CliCommands, ScriptLinesSplitLikeAShell) {
+  EXPECT_EQ(cli::split_line("  reg   write top.scratch=5  # comment"),
+            (std::vector<std::string>{"reg", "write", "top.scratch=5"}));
+  EXPECT_EQ(cli::split_line("# only a comment"), std::vector<std::string>{});
+  EXPECT_EQ(cli::split_line("reg list --filter 'a b'"),
+            (std::vector<std::string>{"reg", "list", "--filter", "a b"}));
+  EXPECT_EQ(cli::split_line("a#b"), std::vector<std::string>{"a#b"});
+  EXPECT_THROW((void)cli::split_line("reg list --filter 'x"), UsageError);
+}
+
+TEST(CliRun, ListOpensNoTargetAndCountsEveryRegister) {
+  Harness h;
+  ASSERT_EQ(h.run({"--json", "reg", "list"}), cli::kExitOk) << h.err;
+  EXPECT_EQ(h.opened, 0);
+  const std::vector<json> docs = h.json_lines();
+  ASSERT_EQ(docs.size(), 1U);
+  EXPECT_EQ(docs[0]["registers"].size(), std::size(regs::kRegisters));
+  ASSERT_EQ(h.run({"reg", "list", "--filter", "eppm.*.count"}), cli::kExitOk);
+  EXPECT_EQ(static_cast<std::size_t>(std::ranges::count(h.out, '\n')),
+            1 + regs::eppm::kInstances);  // header + rows
+}
+
+TEST(CliRun, RegisterFieldWritesReadModifyWriteTheRwBitsOnly) {
+  Harness h;
+  const auto& cfg = regs::eppm::cfg::decode_mode;
+  const std::uint16_t address = regs::eppm::cfg::address(0);
+  ASSERT_EQ(h.run({"reg", "write", "eppm.left_rear.cfg.decode_mode=x2"}), cli::kExitOk) << h.err;
+  ASSERT_EQ(h.bus.log.size(), 2U);
+  EXPECT_TRUE(h.bus.log[0].read);
+  EXPECT_EQ(h.bus.log[0].address, address);
+  EXPECT_FALSE(h.bus.log[1].read);
+  const std::uint32_t expected = cfg.set(
+      regs::eppm::cfg::kReset, static_cast<std::uint32_t>(regs::eppm::cfg::DecodeMode::kX2));
+  EXPECT_EQ(h.bus.log[1].words, std::vector<std::uint32_t>{expected});
+  EXPECT_EQ(h.bus.word(address), expected);
+}
+
+TEST(CliRun, W1cAndW1pFieldWritesWriteOnlyTheirBitsWithoutReading) {
+  Harness h;
+  const std::uint16_t status = regs::eppm::status::address(0);
+  h.bus.word(status) = regs::eppm::status::carry.mask() | regs::eppm::status::borrow.mask();
+  ASSERT_EQ(h.run({"reg", "write", "eppm.left_rear.status.carry=1", "odometry.command.set_pose=1"}),
+            cli::kExitOk)
+      << h.err;
+  ASSERT_EQ(h.bus.log.size(), 2U);
+  for (const auto& t : h.bus.log)
+    EXPECT_FALSE(t.read);
+  EXPECT_EQ(h.bus.log[0].words, std::vector<std::uint32_t>{regs::eppm::status::carry.mask()});
+  EXPECT_EQ(h.bus.log[1].address, regs::odometry::command::kAddress);
+  EXPECT_EQ(h.bus.log[1].words,
+            std::vector<std::uint32_t>{regs::odometry::command::set_pose.mask()});
+  // borrow, not written, is still set.
+  EXPECT_EQ(h.bus.word(status), regs::eppm::status::borrow.mask());
+}
+
+TEST(CliRun, RefusedWritesCauseNoBusTraffic) {
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"reg", "write", "top.scratch=1", "top.id=1"},
+        {"reg", "write", "top.scratch=1", "eppm.left_rear.cfg.filter_clocks=256"},
+        {"reg", "write", "top.scratch=1", "eppm.left_rear.cnt=1"},
+        {"reg", "write", "eppm.left_rear.count.value=-1"}}) {
+    Harness h;
+    EXPECT_EQ(h.run(args), cli::kExitUsage) << args.back();
+    EXPECT_EQ(h.opened, 0);
+    EXPECT_TRUE(h.bus.log.empty());
+    EXPECT_TRUE(h.err.starts_with("odoloc: ")) << h.err;
+    EXPECT_EQ(std::ranges::count(h.err, '\n'), 1) << h.err;
+  }
+}
+
+TEST(CliRun, ReadBurstsConsecutiveAddressesAndKeepsArgumentOrder) {
+  Harness h;
+  const auto x_lo = regs::odometry::pose_x_lo::kAddress;
+  const auto x_hi = regs::odometry::pose_x_hi::kAddress;
+  ASSERT_EQ(x_hi, x_lo + 1);
+  h.bus.word(x_lo) = 0x11111111;
+  h.bus.word(x_hi) = 0x22222222;
+  ASSERT_EQ(h.run({"--json", "reg", "read", "odometry.pose_x_hi", "odometry.pose_x_lo", "top.id"}),
+            cli::kExitOk)
+      << h.err;
+  ASSERT_EQ(h.bus.log.size(), 2U);  // top.id, then pose_x_lo..hi in one burst
+  EXPECT_EQ(h.bus.log[1].address, x_lo);
+  EXPECT_EQ(h.bus.log[1].words.size(), 2U);
+  const json values = h.json_lines().at(0)["values"];
+  EXPECT_EQ(values[0]["path"], "odometry.pose_x_hi");
+  EXPECT_EQ(values[0]["value"], 0x22222222U);
+  EXPECT_EQ(values[1]["value"], 0x11111111U);
+  EXPECT_EQ(values[2]["fields"]["magic"], regs::top::id::magic.reset);
+}
+
+TEST(CliRun, SignedAndEnumFieldsReadDecoded) {
+  Harness h;
+  const auto& v = regs::eppm::count::value;
+  h.bus.word(regs::eppm::count::address(0)) = v.set(0, static_cast<std::uint32_t>(-7));
+  ASSERT_EQ(h.run({"--json", "reg", "read", "eppm.left_rear.count.value",
+                   "eppm.left_rear.cfg.decode_mode"}),
+            cli::kExitOk)
+      << h.err;
+  const json values = h.json_lines().at(0)["values"];
+  EXPECT_EQ(values[0]["value"], -7);
+  EXPECT_EQ(values[1]["value"],
+            enum_name(regs::eppm::cfg::decode_mode, regs::eppm::cfg::decode_mode.reset));
+  ASSERT_EQ(h.run({"reg", "read", "eppm.left_rear.count.value"}), cli::kExitOk);
+  EXPECT_EQ(h.out, fmt::format("eppm.left_rear.count.value = -7 (0x{:05x})\n",
+                               v.get(v.set(0, static_cast<std::uint32_t>(-7)))));
+}
+
+TEST(CliRun, DumpReadsEveryRegisterOnceInContiguousBursts) {
+  Harness h;
+  ASSERT_EQ(h.run({"--json", "reg", "dump"}), cli::kExitOk) << h.err;
+  const auto runs = address_runs();
+  ASSERT_EQ(h.bus.log.size(), runs.size());
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    EXPECT_TRUE(h.bus.log[i].read);
+    EXPECT_EQ(h.bus.log[i].address, runs[i].first);
+    EXPECT_EQ(h.bus.log[i].words.size(), runs[i].second);
+  }
+  const json values = h.json_lines().at(0)["values"];
+  ASSERT_EQ(values.size(), std::size(regs::kRegisters));
+  for (const json& v : values)
+    EXPECT_EQ(v["value"], regs::find(v["path"].get<std::string>())->reset);
+  ASSERT_EQ(h.run({"reg", "dump"}), cli::kExitOk);
+  EXPECT_EQ(static_cast<std::size_t>(std::ranges::count(h.out, '\n')), std::size(regs::kRegisters));
+}
+
+TEST(CliRun, WatchSamplesCountTimesAndWaitsTheIntervalBetween) {
+  Harness h;
+  ASSERT_EQ(h.run({"--json", "reg", "watch", "top.scratch", "--count", "3", "--interval", "250us"}),
+            cli::kExitOk)
+      << h.err;
+  const std::vector<json> lines = h.json_lines();
+  ASSERT_EQ(lines.size(), 3U);
+  EXPECT_EQ(h.waits, std::vector<std::chrono::nanoseconds>(2, std::chrono::microseconds{250}));
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    EXPECT_EQ(lines[i]["sample"], i);
+    EXPECT_EQ(lines[i]["time_ns"], static_cast<std::int64_t>(i) * 250'000);
+    EXPECT_EQ(lines[i]["values"][0]["path"], "top.scratch");
+  }
+  EXPECT_EQ(h.run({"reg", "watch", "top.scratch", "--interval", "100"}), cli::kExitUsage);
+  EXPECT_EQ(h.run({"reg", "watch", "top.scratch", "--count", "0"}), cli::kExitUsage);
+}
+
+TEST(CliRun, WatchStopsWhenInterrupted) {
+  Harness h;
+  std::atomic<bool> stop{true};
+  std::istringstream in;
+  std::ostringstream out, err;
+  FakeBus bus;
+  std::vector<std::chrono::nanoseconds> waits;
+  const int code = cli::run_cli(
+      std::vector<std::string>{"reg", "watch", "top.id"}, {in, out, err},
+      [&](std::string_view, const cli::TargetOptions&) {
+        return std::make_unique<FakeTarget>(bus, waits);
+      },
+      &stop);
+  EXPECT_EQ(code, cli::kExitOk);
+  EXPECT_TRUE(out.str().empty());
+}
+
+TEST(CliRun, ScriptRunsEveryLineOnOneTarget) {
+  Harness h;
+  const std::string script =
+      "# set and check\n"
+      "reg write top.scratch=0x1234  # trailing comment\n"
+      "\n"
+      "reg read top.scratch\n"
+      "--json reg read top.scratch.value\n"
+      "wait 1ms\n";
+  ASSERT_EQ(h.run({"--target", "sim:straight", "--crc", "script", "-"}, script), cli::kExitOk)
+      << h.err;
+  EXPECT_EQ(h.opened, 1);
+  EXPECT_EQ(h.last_spec, "sim:straight");
+  EXPECT_TRUE(h.last_crc);
+  EXPECT_EQ(h.bus.word(regs::top::scratch::kAddress), 0x1234U);
+  EXPECT_NE(h.out.find("top.scratch @ 0x004 = 0x00001234"), std::string::npos) << h.out;
+  ASSERT_EQ(h.waits.size(), 1U);
+  EXPECT_EQ(h.waits[0], std::chrono::milliseconds{1});
+  const std::string last_line = h.out.substr(h.out.rfind('\n', h.out.size() - 2) + 1);
+  EXPECT_EQ(json::parse(last_line)["values"][0]["value"], 0x1234);
+}
+
+TEST(CliRun, ScriptIsCheckedWholeBeforeAnythingRuns) {
+  Harness h;
+  ASSERT_EQ(
+      h.run({"script", "-"}, "reg write top.scratch=1\nreg read top.scratch\nreg write top.id=2\n"),
+      cli::kExitUsage);
+  EXPECT_EQ(h.opened, 0);
+  EXPECT_TRUE(h.bus.log.empty());
+  EXPECT_NE(h.err.find("<stdin>:3: "), std::string::npos) << h.err;
+  for (const char* bad : {"--target sim reg dump", "--crc reg dump", "script other.txt",
+                          "reg frobnicate", "reg read 'unterminated"}) {
+    EXPECT_EQ(h.run({"script", "-"}, bad), cli::kExitUsage) << bad;
+    EXPECT_NE(h.err.find("<stdin>:1: "), std::string::npos) << h.err;
+  }
+  EXPECT_EQ(h.run({"script", "/nonexistent-odoloc/script.txt"}), cli::kExitUsage);
+  EXPECT_NE(h.err.find(std::strerror(ENOENT)), std::string::npos) << h.err;
+}
+
+TEST(CliRun, BusErrorsExitWithOneAndNameTheLine) {
+  Harness h;
+  h.bus.fail_writes = true;
+  EXPECT_EQ(h.run({"reg", "write", "top.scratch=1"}), cli::kExitBus);
+  EXPECT_NE(h.err.find("bus error"), std::string::npos) << h.err;
+  EXPECT_EQ(h.run({"script", "-"}, "reg read top.id\nreg write top.scratch=1\nreg read top.id\n"),
+            cli::kExitBus);
+  EXPECT_NE(h.err.find("<stdin>:2: "), std::string::npos) << h.err;
+}
+
+TEST(CliRun, UsageErrorsAndHelp) {
+  Harness h;
+  EXPECT_EQ(h.run({}), cli::kExitUsage);
+  EXPECT_EQ(h.run({"reg"}), cli::kExitUsage);
+  EXPECT_EQ(h.run({"reg", "read"}), cli::kExitUsage);
+  EXPECT_EQ(h.run({"--target", "nowhere", "reg", "list"}), cli::kExitUsage);
+  EXPECT_NE(h.err.find("unknown target 'nowhere'"), std::string::npos) << h.err;
+  EXPECT_EQ(h.run({"--help"}), cli::kExitOk);
+  EXPECT_NE(h.out.find("Usage"), std::string::npos);
+  EXPECT_EQ(h.run({"reg", "write", "--help"}), cli::kExitOk);
+  EXPECT_NE(h.out.find("NAME.FIELD=VALUE"), std::string::npos) << h.out;
+  EXPECT_EQ(h.opened, 0);
+  // Global options may follow the subcommand.
+  EXPECT_EQ(h.run({"reg", "read", "top.id", "--json"}), cli::kExitOk) << h.err;
+  EXPECT_EQ(json::parse(h.out)["values"][0]["value"], regs::top::id::kReset);
+}
+
+}  // namespace
