@@ -21,6 +21,7 @@
 #include "odoloc/regs.hpp"
 #include "odoloc/rtl/clocked.hpp"
 #include "odoloc/sim/sim_target.hpp"
+#include "vcd_check.hpp"
 
 extern char** environ;
 
@@ -413,6 +414,78 @@ TEST(CliE2e, WaitAndHelp) {
   EXPECT_EQ(help.code, 0);
   EXPECT_NE(help.out.find("reg"), std::string::npos);
   EXPECT_NE(help.out.find("script"), std::string::npos);
+}
+
+// --vcd: the waveform's SPI pins carry the frames the tool sent, decoded
+// here bit by bit as a logic analyser would.
+TEST(CliE2e, VcdWaveformCarriesTheFrames) {
+  const std::string path = ::testing::TempDir() + fmt::format("odoloc_e2e_{}.vcd", ::getpid());
+  const std::uint32_t value = 0xA5A5F00DU;
+  const Result r = run({"--vcd", path, "script", "-"},
+                       fmt::format("reg write top.scratch={:#x}\nreg read top.scratch\n", value));
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream file(path);
+  const auto vcd = odoloc::tb::check_vcd(file);
+  ASSERT_TRUE(vcd.ok()) << vcd.error_text();
+  std::remove(path.c_str());
+
+  struct Frame {
+    std::vector<std::uint8_t> mosi, miso;
+  };
+  std::vector<Frame> frames;
+  std::size_t bit = 0;
+  std::uint64_t last = 0;
+  for (const auto& changes : vcd.history)
+    if (!changes.empty())
+      last = std::max(last, changes.back().time);
+  const auto at = [&](const char* pin, std::uint64_t t) {
+    const auto v = vcd.value_at(std::string{"odoloc."} + pin, t);
+    EXPECT_TRUE(v.has_value()) << pin << " at " << t;
+    return v.value_or(0);
+  };
+  constexpr std::uint64_t kClockNs = 20;
+  for (std::uint64_t t = kClockNs; t <= last; t += kClockNs) {
+    if (at("cs_n", t - kClockNs) == 1 && at("cs_n", t) == 0) {
+      frames.emplace_back();
+      bit = 0;
+    }
+    if (at("cs_n", t) == 0 && at("sclk", t - kClockNs) == 0 && at("sclk", t) == 1) {
+      Frame& f = frames.back();
+      if (bit % 8 == 0) {
+        f.mosi.push_back(0);
+        f.miso.push_back(0);
+      }
+      const auto shift = 7U - static_cast<unsigned>(bit % 8);
+      f.mosi.back() = static_cast<std::uint8_t>(f.mosi.back() | at("mosi", t) << shift);
+      f.miso.back() = static_cast<std::uint8_t>(f.miso.back() | at("miso", t - kClockNs) << shift);
+      ++bit;
+    }
+  }
+  const auto bytes = [](std::uint32_t w) {
+    return std::vector<std::uint8_t>{
+        static_cast<std::uint8_t>(w >> 24U), static_cast<std::uint8_t>(w >> 16U),
+        static_cast<std::uint8_t>(w >> 8U), static_cast<std::uint8_t>(w)};
+  };
+  const auto address = regs::top::scratch::kAddress;
+  std::vector<std::uint8_t> write{0x00, static_cast<std::uint8_t>(address)};
+  std::vector<std::uint8_t> read{0x80, static_cast<std::uint8_t>(address)};
+  const std::vector<std::uint8_t> data = bytes(value);
+  write.insert(write.end(), data.begin(), data.end());
+  bool wrote = false, read_back = false;
+  for (const Frame& f : frames) {
+    wrote |= f.mosi == write;
+    if (f.mosi.size() == 6 && f.mosi[0] == read[0] && f.mosi[1] == read[1]) {
+      EXPECT_EQ(std::vector<std::uint8_t>(f.miso.begin() + 2, f.miso.end()), data);
+      read_back = true;
+    }
+  }
+  EXPECT_TRUE(wrote) << frames.size() << " frames";
+  EXPECT_TRUE(read_back);
+}
+
+TEST(CliE2e, VcdNeedsTheSimTarget) {
+  expect_usage_error(
+      run({"--vcd", "x.vcd", "-t", "spidev:/dev/spidev9.9", "reg", "read", "top.id"}), "--vcd");
 }
 
 }  // namespace

@@ -56,10 +56,10 @@ std::vector<ScriptStep> parse_script(std::istream& in, const std::string& name) 
       if (words.empty())
         continue;
       Invocation inv = parse_invocation(words);
-      if (inv.target_given || inv.crc)
+      if (inv.target_given || inv.crc || !inv.vcd.empty())
         throw UsageError(
-            "--target and --crc choose the transport once, on the odoloc command line, for the "
-            "whole script");
+            "--target, --crc and --vcd choose the transport once, on the odoloc command line, "
+            "for the whole script");
       if (std::holds_alternative<ScriptCommand>(inv.command) && inv.help.empty())
         throw UsageError("a script cannot run another script");
       steps.push_back({line, std::move(inv)});
@@ -92,7 +92,8 @@ int run_script(const Invocation& outer, const ScriptCommand& cmd, const Io& io,
     return s.invocation.help.empty() && needs_target(s.invocation.command);
   });
   if (any_target) {
-    code = guarded(io, "", [&] { target = open(outer.target, {.crc = outer.crc}); });
+    code =
+        guarded(io, "", [&] { target = open(outer.target, {.crc = outer.crc, .vcd = outer.vcd}); });
     if (code != kExitOk)
       return code;
   }
@@ -133,7 +134,7 @@ int run_cli(std::span<const std::string> args, const Io& io, const TargetOpener&
   return guarded(io, "", [&] {
     std::unique_ptr<Target> target;
     if (needs_target(inv.command))
-      target = open(inv.target, {.crc = inv.crc});
+      target = open(inv.target, {.crc = inv.crc, .vcd = inv.vcd});
     execute(inv.command, target.get(), io.out, inv.json, stop);
   });
 }

@@ -18,7 +18,7 @@ namespace odoloc::cli {
 namespace {
 
 constexpr std::string_view kFooter =
-    "Global options, before or after the command: -t/--target SPEC, --json, --crc.\n"
+    "Global options, before or after the command: -t/--target SPEC, --json, --crc, --vcd FILE.\n"
     "Targets: sim (default), sim:SCENARIO, spidev:/dev/spidevB.C[@HZ], lcm[:URL].\n"
     "Exit codes: 0 done, 1 bus or link error, 2 bad command, name, value, address or target.\n"
     "Every run of `--target sim` starts a fresh simulated chip; `odoloc script` runs many\n"
@@ -97,7 +97,7 @@ void check_command_words(std::span<const std::string> args) {
   std::vector<std::string> words;
   for (std::size_t i = 0; i < args.size() && words.size() < 2; ++i) {
     const std::string& a = args[i];
-    if (a == "-t" || a == "--target") {
+    if (a == "-t" || a == "--target" || a == "--vcd") {
       ++i;  // its value
       continue;
     }
@@ -362,6 +362,8 @@ Invocation parse_invocation(std::span<const std::string> args) {
                      "sim (default), sim:SCENARIO, spidev:/dev/spidevB.C[@HZ] or lcm[:URL]");
   app.add_flag("--json", inv.json, "machine-readable output: one JSON document per line");
   app.add_flag("--crc", inv.crc, "switch the fabric's SPI CRC-8 on (top.ctrl.crc_enable) first");
+  app.add_option("--vcd", inv.vcd,
+                 "sim target: write the chip's waveform of every SPI frame to this VCD file");
 
   CLI::App* reg = app.add_subcommand("reg", "list, read, write, dump and watch registers");
   reg->require_subcommand(1);

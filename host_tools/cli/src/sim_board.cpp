@@ -18,7 +18,8 @@ namespace {
 class SimBoard final : public Target {
  public:
   SimBoard(const std::string& scenario, const TargetOptions& options)
-      : sim_({.scenario = scenario}), bus_(sim_.link(), {.crc = options.crc}) {}
+      : sim_({.scenario = scenario, .vcd_path = options.vcd}),
+        bus_(sim_.link(), {.crc = options.crc}) {}
   sw::RegisterBus& bus() override { return bus_; }
   // Simulated time: the fabric (and the scenario's robot) runs for
   // `interval`, as fast as the model goes.

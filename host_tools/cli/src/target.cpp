@@ -90,6 +90,8 @@ SpidevSpec parse_spidev_spec(std::string_view argument) {
 
 std::unique_ptr<Target> open_spidev_target(std::string_view argument,
                                            const TargetOptions& options) {
+  if (!options.vcd.empty())
+    throw UsageError("--vcd records the simulated chip: it needs --target sim");
   return std::make_unique<SpidevTarget>(parse_spidev_spec(argument), options);
 }
 

@@ -1,6 +1,7 @@
 #include "odoloc/sim/sim_target.hpp"
 
 #include <algorithm>
+#include <fstream>
 #include <functional>
 #include <map>
 #include <optional>
@@ -31,7 +32,15 @@ class SimTarget::Impl {
  public:
   explicit Impl(const SimTargetOptions& options)
       : link_({.half_period = checked_half_period(options.sclk_half_period)},
-              make_stimulus(options.scenario)) {}
+              make_stimulus(options.scenario)) {
+    if (options.vcd_path.empty())
+      return;
+    vcd_file_.open(options.vcd_path);
+    if (!vcd_file_)
+      throw std::invalid_argument("cannot write the waveform to '" + options.vcd_path + "'");
+    vcd_.emplace(vcd_file_);
+    link_.trace_frames(*vcd_);
+  }
   ChipLink& link() { return link_; }
 
  private:
@@ -61,6 +70,8 @@ class SimTarget::Impl {
 
   std::optional<TricycleSimulator> truth_;  // before link_: the stimulus refers to it
   ChipLink link_;
+  std::ofstream vcd_file_;
+  std::optional<rtl::VcdWriter> vcd_;  // after link_: destroyed first, flushed before the file
 };
 
 SimTarget::SimTarget(const SimTargetOptions& options) : impl_(std::make_unique<Impl>(options)) {}

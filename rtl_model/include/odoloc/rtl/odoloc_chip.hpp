@@ -39,6 +39,7 @@ class OdolocChip {
                               pins.reset};
     fabric_in_.pins = pins.encoders;
     fabric_in_.reset = pins.reset;
+    spi_pins_ = pins;
 
     if (G == Gating::kOn && registers_.idle(registers_in)) {  // no SPI traffic: the common case
       fabric_.step<G>(fabric_in_, config_);
@@ -71,6 +72,10 @@ class OdolocChip {
 
   template <class V>
   void trace(V& v) const {
+    v.signal("sclk", spi_pins_.sclk);
+    v.signal("cs_n", spi_pins_.cs_n);
+    v.signal("mosi", spi_pins_.mosi);
+    v.signal("miso", miso());
     trace_scope(v, "spi", spi_);
     trace_scope(v, "registers", registers_);
     trace_scope(v, "fabric", fabric_);
@@ -85,6 +90,7 @@ class OdolocChip {
   // decoded for simulation speed.
   OdometryFabricConfig config_;
   OdometryFabric::Inputs fabric_in_;
+  ChipPins spi_pins_;  // the pins of the last clock, for waveforms
 };
 
 }  // namespace odoloc::rtl

@@ -59,6 +59,7 @@ struct Invocation {
   bool target_given = false;
   bool json = false;
   bool crc = false;
+  std::string vcd;  // sim target: waveform file
   Command command;
   std::string help;  // not empty: --help was asked for; print it, run nothing
 };

@@ -18,6 +18,7 @@ namespace odoloc::cli {
 
 struct TargetOptions {
   bool crc = false;  // switch the fabric's SPI CRC-8 on first (top.ctrl.crc_enable)
+  std::string vcd;   // sim only: write the chip's waveform of every frame here
 };
 
 class Target {

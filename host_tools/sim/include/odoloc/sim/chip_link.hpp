@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "odoloc/rtl/odoloc_chip.hpp"
+#include "odoloc/rtl/vcd.hpp"
 #include "odoloc/sim/spi_pin_master.hpp"
 #include "odoloc/sw/spi_frame.hpp"
 
@@ -32,12 +33,22 @@ class ChipLink final : public sw::SpiLink {
 
   // One frame cut after `bits` rising SCLK edges (SpiPinMaster::transfer).
   std::vector<std::uint8_t> transfer_bits(std::span<const std::uint8_t> mosi, std::size_t bits) {
-    return master_.transfer(
+    in_frame_ = true;
+    std::vector<std::uint8_t> miso = master_.transfer(
         mosi,
         [this](rtl::UInt<1> sclk, rtl::UInt<1> cs_n, rtl::UInt<1> mosi_pin) {
           return clock(sclk, cs_n, mosi_pin);
         },
         bits);
+    in_frame_ = false;
+    return miso;
+  }
+
+  // Dumps the whole chip into `vcd` during every frame (not while idle:
+  // the timebases change every clock and would bury the frames).
+  void trace_frames(rtl::VcdWriter& vcd) {
+    vcd.declare(chip_);
+    vcd_ = &vcd;
   }
 
   // Clocks with cs_n high and SCLK at its idle level.
@@ -59,6 +70,8 @@ class ChipLink final : public sw::SpiLink {
     pins_.cs_n = cs_n;
     pins_.mosi = mosi;
     chip_.step(pins_);
+    if (vcd_ != nullptr && in_frame_)
+      vcd_->sample(chip_, clocks_);
     ++clocks_;
     return chip_.miso();
   }
@@ -69,6 +82,8 @@ class ChipLink final : public sw::SpiLink {
   SpiPinMaster master_;
   Stimulus stimulus_;
   std::uint64_t clocks_ = 0;
+  rtl::VcdWriter* vcd_ = nullptr;
+  bool in_frame_ = false;
 };
 
 }  // namespace odoloc::sim

@@ -16,6 +16,7 @@ namespace odoloc::sim {
 struct SimTargetOptions {
   std::string scenario = "none";  // one of SimTarget::scenarios()
   unsigned sclk_half_period = 4;  // fabric clocks per SCLK level (>= 4: 6.25 MHz)
+  std::string vcd_path;           // non-empty: the chip's waveform of every frame (VCD)
 };
 
 class SimTarget {
