@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "enum_name.hpp"
 #include "odoloc/cli/app.hpp"
 #include "odoloc/cli/commands.hpp"
 #include "odoloc/cli/errors.hpp"
@@ -37,14 +38,7 @@ std::string field_path(const regs::Register& r, const regs::Field& f) {
   return std::string{r.path} + "." + std::string{f.name};
 }
 
-std::string enum_name(const regs::Field& f, std::uint32_t value) {
-  for (const regs::Enumerator& e : f.enums) {
-    if (e.value == value)
-      return std::string{e.name};
-  }
-  ADD_FAILURE() << "no enumerator " << value << " in " << f.name;
-  return {};
-}
+using odoloc::tb::enum_name;
 
 std::string message_of(const std::function<void()>& f) {
   try {

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "enum_name.hpp"
 #include "odoloc/regs.hpp"
 #include "odoloc/rtl/clocked.hpp"
 #include "odoloc/sim/sim_target.hpp"
@@ -115,14 +116,7 @@ void expect_usage_error(const Result& r, const std::string& needle) {
   EXPECT_NE(r.err.find(needle), std::string::npos) << r.err;
 }
 
-std::string enum_name(const regs::Field& f, std::uint32_t value) {
-  for (const regs::Enumerator& e : f.enums) {
-    if (e.value == value)
-      return std::string{e.name};
-  }
-  ADD_FAILURE() << "no enumerator " << value << " in " << f.name;
-  return {};
-}
+using odoloc::tb::enum_name;
 
 TEST(CliE2e, TheDrivingScenarioExists) {
   const std::vector<std::string> known = odoloc::sim::SimTarget::scenarios();
