@@ -22,7 +22,7 @@ function(odoloc_add_fuzzer name)
   # Headers are not tracked one by one: any header of the tree rebuilds it.
   file(GLOB_RECURSE headers CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/rtl_model/include/*.hpp
        ${PROJECT_SOURCE_DIR}/soc_software/include/*.hpp
-       ${PROJECT_SOURCE_DIR}/host_tools/sim/include/*.hpp)
+       ${PROJECT_SOURCE_DIR}/host_tools/board/include/*.hpp)
   add_custom_command(
     OUTPUT ${binary}
     COMMAND ${ODOLOC_CLANGXX} ${flags} ${include_flags} ${FZ_SOURCES} ${FZ_LIBS} -o ${binary}

@@ -9,6 +9,7 @@ packages=(
   clang libclang-rt-14-dev  # libFuzzer for the bounded fuzz runs (ctest label fuzz)
   gtkwave      # vcd2fst: the waveform test cross-checks our VCD with GTKWave's own reader
   gnuplot-nox  # the demo's trajectory plot
+  verilator    # test_rdl lints the SystemVerilog PeakRDL-regblock makes from odoloc.rdl
 )
 
 missing=()

@@ -15,13 +15,14 @@
 #include <thread>
 #include <vector>
 
-#include "odoloc/scenario/odometry_scenario.hpp"
+#include "odoloc/board/scenario_runner.hpp"
+#include "odoloc/world/scenarios.hpp"
 
 namespace {
 
+using odoloc::board::RunOptions;
+using odoloc::board::RunResult;
 using odoloc::rtl::MinSelectPolicy;
-using odoloc::scenario::RunOptions;
-using odoloc::scenario::RunResult;
 
 struct Variant {
   const char* label;
@@ -89,7 +90,7 @@ int main(int argc, char** argv) {
   app.add_flag("--paper", paper, "also run the paper's memoryless min-select");
   CLI11_PARSE(app, argc, argv);
 
-  const odoloc::scenario::Scenario scenario = odoloc::scenario::default_square();
+  const odoloc::world::Scenario scenario = odoloc::world::default_square();
   std::vector<Variant> variants = {
       {"rear only", "rear", {MinSelectPolicy::kRearOnly, false, kRecordEveryClocks}},
       {"front only", "front", {MinSelectPolicy::kFrontOnly, false, kRecordEveryClocks}},
@@ -113,7 +114,7 @@ int main(int argc, char** argv) {
     std::vector<std::jthread> workers;
     for (std::size_t i = 0; i < variants.size(); ++i) {
       workers.emplace_back(
-          [&, i] { results[i] = odoloc::scenario::run(scenario, variants[i].options); });
+          [&, i] { results[i] = odoloc::board::run_scenario(scenario, variants[i].options); });
     }
   }
   const double wall_s =

@@ -12,23 +12,28 @@
 #include <string>
 #include <vector>
 
+#include "odoloc/board/encoder_pins.hpp"
 #include "odoloc/rtl/encoder_fabric.hpp"
 #include "odoloc/rtl/vcd.hpp"
-#include "odoloc/sim/quadrature_source.hpp"
 #include "odoloc/sw/eppm_units.hpp"
+#include "odoloc/world/quadrature_source.hpp"
 
 namespace {
 
 using odoloc::rtl::EncoderFabric;
-using odoloc::rtl::kWheelCount;
-using odoloc::rtl::kWheelNames;
-using odoloc::sim::QuadratureSource;
+using odoloc::rtl::kEncoderCount;
+
+// "left_rear", ...: the register map's names of the EPPM instances.
+std::string encoder_name(std::size_t w) {
+  return std::string(odoloc::regs::eppm::kInstanceNames[w]);
+}
+using odoloc::world::QuadratureSource;
 
 // Wheel surface speeds in m/s for each phase of the default drive.
 struct Phase {
   const char* name;
   double seconds;
-  std::array<double, kWheelCount> mps;  // left rear, right rear, front drive, steering
+  std::array<double, kEncoderCount> mps;  // left rear, right rear, front drive, steering
 };
 constexpr std::array<Phase, 4> kDefaultDrive = {{
     {"creep", 0.06, {0.020, 0.020, 0.020, 0.000}},
@@ -37,7 +42,8 @@ constexpr std::array<Phase, 4> kDefaultDrive = {{
     {"reverse", 0.08, {-0.300, -0.300, -0.300, 0.0}},
 }};
 
-constexpr std::uint32_t kLatchEveryClocks = 5'000;  // the 100 us control period
+// The odometry's reset control period (100 us).
+constexpr std::uint32_t kLatchEveryClocks = odoloc::regs::odometry::cfg::update_clocks.reset;
 
 }  // namespace
 
@@ -53,18 +59,18 @@ int main(int argc, char** argv) {
   const odoloc::sw::EncoderGeometry geometry;
   const odoloc::sw::SpeedTiming timing;
   const auto thresholds = odoloc::sw::switch_thresholds(timing);
-  EncoderFabric::Configs cfg{};
+  EncoderFabric::Config cfg{};
   for (auto& c : cfg) {
-    c.window_clocks = odoloc::rtl::UInt<23>{timing.window_clocks};
-    c.prescale = odoloc::rtl::UInt<16>{timing.prescale};
-    c.to_period_below = odoloc::rtl::UInt<23>{thresholds.to_period_below};
-    c.to_pulse_at = odoloc::rtl::UInt<23>{thresholds.to_pulse_at};
+    c.window.clocks = odoloc::rtl::UInt<23>{timing.window_clocks};
+    c.prescale.divider = odoloc::rtl::UInt<16>{timing.prescale};
+    c.to_period_below.edges = odoloc::rtl::UInt<23>{thresholds.to_period_below};
+    c.to_pulse_at.edges = odoloc::rtl::UInt<23>{thresholds.to_pulse_at};
   }
 
   EncoderFabric fabric;
-  EncoderFabric::Inputs in{};
-  std::array<QuadratureSource, kWheelCount> sources{};
-  std::array<std::int64_t, kWheelCount> increments_sum{};
+  EncoderFabric::In in{};
+  std::array<QuadratureSource, kEncoderCount> sources{};
+  std::array<std::int64_t, kEncoderCount> increments_sum{};
 
   std::ofstream vcd_file;
   std::unique_ptr<odoloc::rtl::VcdWriter> vcd;
@@ -92,31 +98,31 @@ int main(int argc, char** argv) {
   const auto start = std::chrono::steady_clock::now();
   std::uint64_t clock = 0;
   for (const Phase& phase : kDefaultDrive) {
-    for (std::size_t w = 0; w < kWheelCount; ++w) {
+    for (std::size_t w = 0; w < kEncoderCount; ++w) {
       sources[w].set_rate(phase.mps[w] / geometry.metres_per_edge() / odoloc::rtl::kFabricClockHz);
     }
     const auto phase_clocks =
         static_cast<std::uint64_t>(phase.seconds * odoloc::rtl::kFabricClockHz);
     for (std::uint64_t i = 0; i < phase_clocks; ++i, ++clock) {
       const bool latch = clock % kLatchEveryClocks == kLatchEveryClocks - 1;
-      for (std::size_t w = 0; w < kWheelCount; ++w) {
-        const auto ab = sources[w].tick();
+      for (std::size_t w = 0; w < kEncoderCount; ++w) {
+        const auto ab = odoloc::board::encoder_pins(sources[w].tick());
         in[w].a = ab.bit<1>();
         in[w].b = ab.bit<0>();
         in[w].latch_clear = odoloc::rtl::UInt<1>::truncate(latch);
       }
       fabric.step(in, cfg);
       if (latch) {
-        for (std::size_t w = 0; w < kWheelCount; ++w) {
+        for (std::size_t w = 0; w < kEncoderCount; ++w) {
           increments_sum[w] +=
-              fabric.eppm(static_cast<odoloc::rtl::Wheel>(w)).counter().latched.value();
+              fabric.eppm(static_cast<odoloc::rtl::Encoder>(w)).counter().latched.value();
         }
       }
       if (vcd && clock < vcd_clocks)
         vcd->sample(fabric, clock);
     }
-    for (std::size_t w = 0; w < kWheelCount; ++w) {
-      const auto s = fabric.eppm(static_cast<odoloc::rtl::Wheel>(w)).speed(cfg[w]);
+    for (std::size_t w = 0; w < kEncoderCount; ++w) {
+      const auto s = fabric.eppm(static_cast<odoloc::rtl::Encoder>(w)).status(cfg[w]).speed;
       const bool pulse = s.mode.value() == 1;
       const double read = odoloc::sw::speed_mps(static_cast<std::int32_t>(s.value.value()), pulse,
                                                 geometry, timing);
@@ -128,10 +134,10 @@ int main(int argc, char** argv) {
       const char* note = s.valid.value() ? "" : "  (invalid sample)";
       if (truth == 0.0) {
         std::printf("%-18s %-12s %10.4f %10.4f %6s %9s %9s%s\n", w == 0 ? phase.name : "",
-                    kWheelNames[w], truth, read, mode, "-", "-", note);
+                    encoder_name(w).c_str(), truth, read, mode, "-", "-", note);
       } else {
         std::printf("%-18s %-12s %10.4f %10.4f %6s %9.3f %9.3f%s\n", w == 0 ? phase.name : "",
-                    kWheelNames[w], truth, read, mode, 100.0 * (read - truth) / truth,
+                    encoder_name(w).c_str(), truth, read, mode, 100.0 * (read - truth) / truth,
                     100.0 * bound, note);
       }
     }
@@ -141,17 +147,18 @@ int main(int argc, char** argv) {
 
   std::printf("\n%-12s %14s %14s %14s\n", "wheel", "true edges", "sum of reads", "in counter");
   int mismatches = 0;
-  for (std::size_t w = 0; w < kWheelCount; ++w) {
-    const auto& eppm = fabric.eppm(static_cast<odoloc::rtl::Wheel>(w));
+  for (std::size_t w = 0; w < kEncoderCount; ++w) {
+    const auto& eppm = fabric.eppm(static_cast<odoloc::rtl::Encoder>(w));
     const std::int64_t counted = increments_sum[w] + eppm.count().value();
     // The pins reach the counter through a 2-flop synchroniser, the filter
     // and the decoder: edges of the last few clocks are still in flight.
     const std::int64_t in_flight = sources[w].edges() - counted;
     if (std::llabs(in_flight) > 1)
       ++mismatches;
-    std::printf(
-        "%-12s %14lld %14lld %14lld\n", kWheelNames[w], static_cast<long long>(sources[w].edges()),
-        static_cast<long long>(increments_sum[w]), static_cast<long long>(eppm.count().value()));
+    std::printf("%-12s %14lld %14lld %14lld\n", encoder_name(w).c_str(),
+                static_cast<long long>(sources[w].edges()),
+                static_cast<long long>(increments_sum[w]),
+                static_cast<long long>(eppm.count().value()));
   }
   std::printf(
       "\nsimulated %.3f s (%llu clocks) in %.3f s wall: %.1f M clocks/s (%.1fx real time)\n",

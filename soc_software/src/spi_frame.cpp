@@ -9,7 +9,8 @@
 namespace odoloc::sw {
 namespace {
 
-constexpr std::uint8_t kPoly = 0x1D, kInit = 0xFF, kXorOut = 0xFF;
+constexpr std::uint8_t kPoly = regs::spi::kCrcPolynomial, kInit = regs::spi::kCrcInit,
+                       kXorOut = regs::spi::kCrcXorOut;
 constexpr unsigned kWordBytes = 4;
 constexpr std::uint16_t kReadBit = 0x8000;
 constexpr unsigned kBurstShift = 10;

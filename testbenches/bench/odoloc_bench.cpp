@@ -3,22 +3,24 @@
 
 #include <array>
 
+#include "odoloc/board/chip_link.hpp"
+#include "odoloc/board/encoder_pins.hpp"
 #include "odoloc/regs.hpp"
 #include "odoloc/rtl/encoder_fabric.hpp"
-#include "odoloc/sim/chip_link.hpp"
-#include "odoloc/sim/quadrature_source.hpp"
 #include "odoloc/sw/spi_frame.hpp"
+#include "odoloc/world/quadrature_source.hpp"
 #include "odometry_bench.hpp"
 
 namespace {
 
+using odoloc::board::encoder_pins;
 using odoloc::rtl::EncoderFabric;
-using odoloc::rtl::kWheelCount;
-using odoloc::sim::QuadratureSource;
+using odoloc::rtl::kEncoderCount;
+using odoloc::world::QuadratureSource;
 
 // Edge rates of real wheel encoders: 500-line encoder (2000 x4 edges/rev)
 // behind a 30:1 gearbox on a 0.1 m wheel gives about 95 k edges/s at 1 m/s.
-constexpr double kEdgesPerSecond[kWheelCount] = {200e3, 20e3, 1e6, 2e3};
+constexpr double kEdgesPerSecond[kEncoderCount] = {200e3, 20e3, 1e6, 2e3};
 constexpr std::uint64_t kSteeringReversalClocks = 1U << 16;  // 1.3 ms
 
 double edges_per_clock(std::size_t wheel) {
@@ -29,9 +31,9 @@ double edges_per_clock(std::size_t wheel) {
 template <odoloc::rtl::Gating G>
 void step_four_eppms(benchmark::State& state) {
   EncoderFabric fabric;
-  EncoderFabric::Configs cfg{};
-  EncoderFabric::Inputs in{};
-  std::array<QuadratureSource, kWheelCount> sources = {
+  EncoderFabric::Config cfg{};
+  EncoderFabric::In in{};
+  std::array<QuadratureSource, kEncoderCount> sources = {
       QuadratureSource{edges_per_clock(0)}, QuadratureSource{edges_per_clock(1)},
       QuadratureSource{edges_per_clock(2)}, QuadratureSource{edges_per_clock(3)}};
   std::uint64_t clocks = 0;
@@ -41,8 +43,8 @@ void step_four_eppms(benchmark::State& state) {
         const bool backward = (clocks / kSteeringReversalClocks) % 2 == 1;
         sources[3].set_rate(backward ? -edges_per_clock(3) : edges_per_clock(3));
       }
-      for (std::size_t w = 0; w < kWheelCount; ++w) {
-        const auto ab = sources[w].tick();
+      for (std::size_t w = 0; w < kEncoderCount; ++w) {
+        const auto ab = encoder_pins(sources[w].tick());
         in[w].a = ab.bit<1>();
         in[w].b = ab.bit<0>();
       }
@@ -53,7 +55,7 @@ void step_four_eppms(benchmark::State& state) {
   }
   state.SetItemsProcessed(static_cast<std::int64_t>(clocks));
   state.counters["left_rear_count"] =
-      static_cast<double>(fabric.eppm(odoloc::rtl::Wheel::kLeftRear).count().value());
+      static_cast<double>(fabric.eppm(odoloc::rtl::Encoder::kLeftRear).count().value());
 }
 void BM_FourEppm_CycleStep(benchmark::State& state) {
   step_four_eppms<odoloc::rtl::Gating::kOn>(state);
@@ -85,12 +87,11 @@ BENCHMARK(BM_OdometryFabric_CycleStep);
 // The whole chip (fabric, register file, idle SPI slave) with the four
 // encoders moving: the cost of the register side on every clock.
 void BM_OdolocChip_CycleStep(benchmark::State& state) {
-  std::array<odoloc::sim::QuadratureSource, 4> sources{
-      odoloc::sim::QuadratureSource(0.004), odoloc::sim::QuadratureSource(0.0004),
-      odoloc::sim::QuadratureSource(0.02), odoloc::sim::QuadratureSource(-0.00004)};
-  odoloc::sim::ChipLink link({.half_period = 4}, [&](auto& pins) {
+  std::array<QuadratureSource, 4> sources{QuadratureSource(0.004), QuadratureSource(0.0004),
+                                          QuadratureSource(0.02), QuadratureSource(-0.00004)};
+  odoloc::board::ChipLink link({.half_period = 4}, [&](auto& pins) {
     for (std::size_t w = 0; w < 4; ++w)
-      pins[w] = sources[w].tick();
+      pins[w] = encoder_pins(sources[w].tick());
   });
   for (auto _ : state)
     link.advance(1024);
@@ -101,7 +102,7 @@ BENCHMARK(BM_OdolocChip_CycleStep);
 // Register reads through the sim target: SoC bus -> frame codec -> pin-level
 // master -> chip, 32-word bursts at the fastest legal SCLK (6.25 MHz).
 void BM_SimBus_Read32Words(benchmark::State& state) {
-  odoloc::sim::ChipLink link({.half_period = 4});
+  odoloc::board::ChipLink link({.half_period = 4});
   odoloc::sw::SpiRegisterBus bus(link, {.crc = state.range(0) != 0, .confirm_writes = false});
   std::array<std::uint32_t, 32> words{};
   for (auto _ : state) {

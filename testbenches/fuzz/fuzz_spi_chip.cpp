@@ -18,16 +18,16 @@
 #include <span>
 #include <vector>
 
+#include "odoloc/board/chip_link.hpp"
 #include "odoloc/regs.hpp"
-#include "odoloc/sim/chip_link.hpp"
 #include "odoloc/sw/spi_frame.hpp"
 
 namespace {
 
 namespace regs = odoloc::regs;
+using odoloc::board::ChipLink;
+using odoloc::board::SpiPinMaster;
 using odoloc::rtl::UInt;
-using odoloc::sim::ChipLink;
-using odoloc::sim::SpiPinMaster;
 
 void require(bool ok, const char* what) {
   if (!ok) {
@@ -55,8 +55,8 @@ class Input {
 
 void check_invariants(const ChipLink& link) {
   const auto& fabric = link.chip().fabric();
-  for (std::size_t w = 0; w < odoloc::rtl::kWheelCount; ++w) {
-    const auto& e = fabric.encoders().eppm(static_cast<odoloc::rtl::Wheel>(w));
+  for (std::size_t w = 0; w < odoloc::rtl::kEncoderCount; ++w) {
+    const auto& e = fabric.encoders().eppm(static_cast<odoloc::rtl::Encoder>(w));
     require(e.counter().count.is_zero() && e.counter().latched.is_zero(), "count moved");
     require((e.counter().carry | e.counter().borrow | e.decoder().phase_error).is_zero(),
             "position flags set");
@@ -73,16 +73,16 @@ void check_invariants(const ChipLink& link) {
 
 // Back to a known framing, then a write and a read at a legal speed.
 void check_next_frame_works(ChipLink& link) {
-  const bool mode3 = link.chip().registers().spi_mode3().value() != 0;
+  const bool mode3 = link.chip().config().top.ctrl.spi_mode3.value() != 0;
   link.master() = SpiPinMaster({.half_period = 4, .mode3 = mode3});
   link.advance(16);
   const std::uint32_t plain = 0;
-  const bool crc = link.chip().registers().crc_enable().value() != 0;
+  const bool crc = link.chip().config().top.ctrl.crc_enable.value() != 0;
   link.transfer_bits(odoloc::sw::encode_frame(odoloc::sw::SpiOp::kWrite, regs::top::ctrl::kAddress,
                                               1, std::span{&plain, 1}, crc),
                      SpiPinMaster::kNoAbort);
   link.set_mode3(false);
-  require(link.chip().registers().crc_enable().is_zero(), "ctrl write failed");
+  require(link.chip().config().top.ctrl.crc_enable.is_zero(), "ctrl write failed");
   odoloc::sw::SpiRegisterBus bus(link, {.crc = false, .confirm_writes = true});
   bus.write(regs::top::scratch::kAddress, 0x5EED1234U);  // throws (and aborts) on failure
   require(bus.read(regs::top::scratch::kAddress) == 0x5EED1234U, "scratch did not read back");

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "eppm_bench.hpp"
+#include "odoloc/board/encoder_pins.hpp"
 #include "odoloc/rtl/vcd.hpp"
 #include "vcd_check.hpp"
 
@@ -15,8 +16,8 @@ namespace {
 
 using odoloc::rtl::DecodeMode;
 using odoloc::rtl::UInt;
-using odoloc::sim::QuadratureSource;
 using odoloc::tb::EppmBench;
+using odoloc::world::QuadratureSource;
 
 // The quadrature specification, written as the list of forward steps (A leads
 // B, A in bit 1) rather than the model's phase arithmetic.
@@ -53,8 +54,8 @@ TEST(EppmDecoder, AllSixteenTransitionsInEveryMode) {
         SCOPED_TRACE(testing::Message()
                      << "mode " << static_cast<int>(mode) << " prev " << prev << " curr " << curr);
         EppmBench tb;
-        tb.cfg.filter_clocks = UInt<8>{0};
-        tb.cfg.decode_mode = UInt<2>{static_cast<unsigned>(mode)};
+        tb.cfg.cfg.filter_clocks = UInt<8>{0};
+        tb.cfg.cfg.decode_mode = UInt<2>{static_cast<unsigned>(mode)};
         // Reach `prev` by legal forward steps from 00, then start clean.
         for (unsigned ab : {0b10U, 0b11U, 0b01U}) {
           if (prev == 0)
@@ -84,7 +85,7 @@ TEST(EppmDecoder, AllSixteenTransitionsInEveryMode) {
 TEST(EppmDecoder, X1AndX2CountAFractionOfX4AndNetZeroBackAndForth) {
   for (const DecodeMode mode : {DecodeMode::kX4, DecodeMode::kX2, DecodeMode::kX1}) {
     EppmBench tb;
-    tb.cfg.decode_mode = UInt<2>{static_cast<unsigned>(mode)};
+    tb.cfg.cfg.decode_mode = UInt<2>{static_cast<unsigned>(mode)};
     QuadratureSource source{0.05};
     tb.run(source, 80'000);  // about 4000 edges = 1000 cycles
     tb.clock(tb.latency());
@@ -103,7 +104,7 @@ TEST(EppmDecoder, X1AndX2CountAFractionOfX4AndNetZeroBackAndForth) {
 
 TEST(EppmDecoder, IllegalTransitionsAreCountedAndSaturate) {
   EppmBench tb;
-  tb.cfg.filter_clocks = UInt<8>{0};
+  tb.cfg.cfg.filter_clocks = UInt<8>{0};
   for (int i = 0; i < 70'000; ++i)
     settle(tb, i % 2 == 0 ? 0b11 : 0b00);
   EXPECT_EQ(tb.dut.decoder().error_count.value(), 65'535U);
@@ -117,7 +118,7 @@ TEST(EppmDecoder, IllegalTransitionsAreCountedAndSaturate) {
 // A pulse of `width` clocks on A from rest; returns whether it reached the counter.
 bool pulse_passes(unsigned filter_clocks, unsigned width) {
   EppmBench tb;
-  tb.cfg.filter_clocks = UInt<8>{filter_clocks};
+  tb.cfg.cfg.filter_clocks = UInt<8>{filter_clocks};
   tb.clock(10);
   tb.set_pins(0b10);
   tb.clock(width);
@@ -148,7 +149,7 @@ TEST(EppmFilter, LatencyIsNPlusThreeClocks) {
   for (unsigned n : {0U, 1U, 2U, 3U, 7U, 255U}) {
     SCOPED_TRACE(n);
     EppmBench tb;
-    tb.cfg.filter_clocks = UInt<8>{n};
+    tb.cfg.cfg.filter_clocks = UInt<8>{n};
     tb.clock(5);
     tb.set_pins(0b10);
     tb.clock(tb.latency() - 1);
@@ -160,7 +161,7 @@ TEST(EppmFilter, LatencyIsNPlusThreeClocks) {
 
 TEST(EppmFilter, GlitchTrainShorterThanNNeverCounts) {
   EppmBench tb;
-  tb.cfg.filter_clocks = UInt<8>{5};
+  tb.cfg.cfg.filter_clocks = UInt<8>{5};
   for (int i = 0; i < 1000; ++i) {
     tb.set_pins(i % 3 == 0 ? 0b10 : 0b01);  // each channel high for 1..4 clocks, then low
     tb.clock(1 + static_cast<unsigned>(i % 4));
@@ -174,12 +175,12 @@ TEST(EppmFilter, GlitchTrainShorterThanNNeverCounts) {
 
 TEST(EppmCounter, WrapsWithStickyCarryAndBorrow) {
   EppmBench tb;
-  tb.cfg.filter_clocks = UInt<8>{0};
+  tb.cfg.cfg.filter_clocks = UInt<8>{0};
   QuadratureSource source{0.5};
   constexpr std::int64_t kMax = (1 << 19) - 1;
   // Up to +max: no carry yet.
   while (source.edges() < kMax) {
-    tb.set_pins(static_cast<unsigned>(source.tick().value()));
+    tb.set_pins(static_cast<unsigned>(odoloc::board::encoder_pins(source.tick()).value()));
     tb.clock();
   }
   tb.clock(tb.latency());
@@ -221,13 +222,13 @@ TEST(EppmCounter, LatchClearNeverLosesAnEdge) {
 
 TEST(EppmCounter, IncrementsSumToTheTruthAtFullRate) {
   EppmBench tb;
-  tb.cfg.filter_clocks = UInt<8>{0};
+  tb.cfg.cfg.filter_clocks = UInt<8>{0};
   QuadratureSource source{0.999};  // an edge almost every clock
   std::int64_t sum = 0;
   for (int i = 0; i < 200'000; ++i) {
     if (i == 100'000)
       source.set_rate(-0.7);
-    tb.set_pins(static_cast<unsigned>(source.tick().value()));
+    tb.set_pins(static_cast<unsigned>(odoloc::board::encoder_pins(source.tick()).value()));
     tb.in.latch_clear = UInt<1>::truncate(i % 7 == 0 || i % 11 == 0);
     tb.clock();
     if (i % 7 == 0 || i % 11 == 0)

@@ -93,14 +93,14 @@ std::string dump(const Block& block) {
 // settled fast path run for thousands of clocks.
 EppmConfig random_config(Rng& rng) {
   EppmConfig cfg;
-  cfg.filter_clocks = one_in(rng, 4) ? random_uint<8>(rng) : UInt<8>::truncate(rng() % 8);
-  cfg.decode_mode = random_uint<2>(rng);
-  cfg.speed_mode_select = random_uint<2>(rng);
-  cfg.window_clocks = pick<23>(rng, std::array<std::uint32_t, 7>{0, 1, 2, 7, 100, 1000, 50'000});
-  cfg.prescale = pick<16>(rng, std::array<std::uint32_t, 5>{0, 1, 3, 49, 999});
-  cfg.to_period_below = UInt<23>::truncate(rng() % 40);
-  cfg.to_pulse_at = UInt<23>::truncate(rng() % 60);
-  cfg.stall_ticks = pick<23>(rng, std::array<std::uint32_t, 5>{0, 1, 3, 50, 50'000});
+  cfg.cfg.filter_clocks = one_in(rng, 4) ? random_uint<8>(rng) : UInt<8>::truncate(rng() % 8);
+  cfg.cfg.decode_mode = random_uint<2>(rng);
+  cfg.cfg.speed_mode_select = random_uint<2>(rng);
+  cfg.window.clocks = pick<23>(rng, std::array<std::uint32_t, 7>{0, 1, 2, 7, 100, 1000, 50'000});
+  cfg.prescale.divider = pick<16>(rng, std::array<std::uint32_t, 5>{0, 1, 3, 49, 999});
+  cfg.to_period_below.edges = UInt<23>::truncate(rng() % 40);
+  cfg.to_pulse_at.edges = UInt<23>::truncate(rng() % 60);
+  cfg.stall_ticks.ticks = pick<23>(rng, std::array<std::uint32_t, 5>{0, 1, 3, 50, 50'000});
   return cfg;
 }
 
@@ -111,14 +111,14 @@ void change_config(Rng& rng, EppmConfig& cfg) {
     if (one_in(rng, 3))
       field = value;
   };
-  maybe(cfg.filter_clocks, fresh.filter_clocks);
-  maybe(cfg.decode_mode, fresh.decode_mode);
-  maybe(cfg.speed_mode_select, fresh.speed_mode_select);
-  maybe(cfg.window_clocks, fresh.window_clocks);
-  maybe(cfg.prescale, fresh.prescale);
-  maybe(cfg.to_period_below, fresh.to_period_below);
-  maybe(cfg.to_pulse_at, fresh.to_pulse_at);
-  maybe(cfg.stall_ticks, fresh.stall_ticks);
+  maybe(cfg.cfg.filter_clocks, fresh.cfg.filter_clocks);
+  maybe(cfg.cfg.decode_mode, fresh.cfg.decode_mode);
+  maybe(cfg.cfg.speed_mode_select, fresh.cfg.speed_mode_select);
+  maybe(cfg.window.clocks, fresh.window.clocks);
+  maybe(cfg.prescale.divider, fresh.prescale.divider);
+  maybe(cfg.to_period_below.edges, fresh.to_period_below.edges);
+  maybe(cfg.to_pulse_at.edges, fresh.to_pulse_at.edges);
+  maybe(cfg.stall_ticks.ticks, fresh.stall_ticks.ticks);
 }
 
 TEST(EppmGating, GatedAndUngatedAgreeEveryClock) {
@@ -159,7 +159,7 @@ TEST(EppmGating, GatedAndUngatedAgreeEveryClock) {
           gated.conditioner() == ungated.conditioner() && gated.decoder() == ungated.decoder() &&
           gated.counter() == ungated.counter() && gated.timebase() == ungated.timebase() &&
           gated.pulse() == ungated.pulse() && gated.period() == ungated.period() &&
-          gated.speed(cfg) == ungated.speed(cfg);
+          gated.status(cfg).speed == ungated.status(cfg).speed;
       ASSERT_TRUE(same) << "seed " << seed << " step " << k << "\n  gated:   " << dump(gated)
                         << "\n  ungated: " << dump(ungated);
     }

@@ -18,8 +18,9 @@
 #include <vector>
 
 #include "eppm_reference.hpp"
+#include "odoloc/board/encoder_pins.hpp"
 #include "odoloc/rtl/eppm.hpp"
-#include "odoloc/sim/quadrature_source.hpp"
+#include "odoloc/world/quadrature_source.hpp"
 #include "test_scale.hpp"
 
 namespace {
@@ -31,7 +32,7 @@ using odoloc::rtl::EppmConfig;
 using odoloc::rtl::EppmFlagClear;
 using odoloc::rtl::EppmInputs;
 using odoloc::rtl::UInt;
-using odoloc::sim::QuadratureSource;
+using odoloc::world::QuadratureSource;
 
 EppmInputs pins_input(unsigned ab) {
   EppmInputs in;
@@ -106,14 +107,14 @@ struct RandomCase {
 
   [[nodiscard]] EppmConfig config() const {
     EppmConfig cfg;
-    cfg.filter_clocks = UInt<8>{filter_clocks};
-    cfg.decode_mode = UInt<2>{decode_mode};
-    cfg.speed_mode_select = UInt<2>{speed_mode_select};
-    cfg.window_clocks = UInt<23>{window_clocks};
-    cfg.prescale = UInt<16>{prescale};
-    cfg.stall_ticks = UInt<23>{stall_ticks};
-    cfg.to_period_below = UInt<23>{to_period_below};
-    cfg.to_pulse_at = UInt<23>{to_pulse_at};
+    cfg.cfg.filter_clocks = UInt<8>{filter_clocks};
+    cfg.cfg.decode_mode = UInt<2>{decode_mode};
+    cfg.cfg.speed_mode_select = UInt<2>{speed_mode_select};
+    cfg.window.clocks = UInt<23>{window_clocks};
+    cfg.prescale.divider = UInt<16>{prescale};
+    cfg.stall_ticks.ticks = UInt<23>{stall_ticks};
+    cfg.to_period_below.edges = UInt<23>{to_period_below};
+    cfg.to_pulse_at.edges = UInt<23>{to_pulse_at};
     return cfg;
   }
 };
@@ -181,7 +182,11 @@ TEST_P(EppmRandom, MatchesReferenceEveryClock) {
     const bool latching = latch != latch_steps.end() && *latch == k;
     const bool clearing = clear != clear_steps.end() && *clear == k;
     in.latch_clear = UInt<1>::truncate(latching);
-    in.clear = EppmFlagClear::all(UInt<1>::truncate(clearing));
+    const UInt<1> clearing_bit = UInt<1>::truncate(clearing);
+    in.clear.status = {.phase_error = clearing_bit,
+                       .carry = clearing_bit,
+                       .borrow = clearing_bit,
+                       .period_overflow = clearing_bit};
     if (latching)
       ++latch;
     if (clearing)
@@ -224,7 +229,7 @@ TEST_P(EppmRandom, MatchesReferenceEveryClock) {
       ++edge;
     }
 
-    const auto speed = dut.speed(cfg);
+    const auto speed = dut.status(cfg).speed;
     const auto want = exp.speed_after(k);
     ASSERT_EQ(std::tuple(speed.value.value(), speed.mode.value(), speed.valid.value(),
                          speed.stalled.value()),
@@ -283,13 +288,15 @@ TEST(EppmRandom, ConstantRateCountsEqualSourceEdges) {
     for (const double rate : {max_rate, -0.37 / n, 0.0123}) {
       for (const unsigned decode_mode : {0U, 1U, 2U}) {
         EppmConfig cfg;
-        cfg.filter_clocks = UInt<8>{filter_clocks};
-        cfg.decode_mode = UInt<2>{decode_mode};
+        cfg.cfg.filter_clocks = UInt<8>{filter_clocks};
+        cfg.cfg.decode_mode = UInt<2>{decode_mode};
         QuadratureSource source(rate);
         Eppm dut;
         std::vector<std::int64_t> source_edges;  // after each step
         for (std::uint64_t k = 0; k < clocks; ++k) {
-          dut.step(pins_input(static_cast<unsigned>(source.tick().value())), cfg);
+          dut.step(
+              pins_input(static_cast<unsigned>(odoloc::board::encoder_pins(source.tick()).value())),
+              cfg);
           source_edges.push_back(source.edges());
           const std::int64_t want =
               k < n + 2 ? 0 : decoded_edges(source_edges[k - n - 2], decode_mode);

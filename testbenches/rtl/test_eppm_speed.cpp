@@ -14,21 +14,21 @@ namespace {
 using odoloc::rtl::SpeedMode;
 using odoloc::rtl::SpeedModeSelect;
 using odoloc::rtl::UInt;
-using odoloc::sim::QuadratureSource;
 using odoloc::sw::SpeedTiming;
 using odoloc::tb::EppmBench;
+using odoloc::world::QuadratureSource;
 
 constexpr double kClockHz = odoloc::sw::kFabricClockHz;
 
 double window_of(const EppmBench& tb) {
-  return static_cast<double>(tb.cfg.window_clocks.value());
+  return static_cast<double>(tb.cfg.window.clocks.value());
 }
 double speed_of(const EppmBench& tb) {
-  return static_cast<double>(tb.dut.speed(tb.cfg).value.value());
+  return static_cast<double>(tb.dut.status(tb.cfg).speed.value.value());
 }
 
 void select(EppmBench& tb, SpeedModeSelect mode) {
-  tb.cfg.speed_mode_select = UInt<2>{static_cast<unsigned>(mode)};
+  tb.cfg.cfg.speed_mode_select = UInt<2>{static_cast<unsigned>(mode)};
 }
 
 // Edge rates from 200 edges/s to 5 M edges/s, log spaced.
@@ -54,7 +54,7 @@ TEST(EppmSpeed, PulseModeIsWithinOneEdgePerWindowOverTheRange) {
       if (!tb.dut.pulse().sampled || static_cast<double>(tb.steps) <= window)
         continue;  // start-up
       ++samples;
-      const auto speed = tb.dut.speed(tb.cfg);
+      const auto speed = tb.dut.status(tb.cfg).speed;
       ASSERT_EQ(speed.mode.value(), static_cast<unsigned>(SpeedMode::kPulse));
       EXPECT_LE(std::abs(static_cast<double>(speed.value.value()) - truth), 1.0);
     }
@@ -68,8 +68,8 @@ TEST(EppmSpeed, PeriodModeIsWithinOneTickPerEdgeOverTheRange) {
       SCOPED_TRACE(testing::Message() << edges_per_s << " edges/s, prescale " << prescale);
       EppmBench tb;
       select(tb, SpeedModeSelect::kPeriod);
-      tb.cfg.prescale = UInt<16>{prescale};
-      tb.cfg.stall_ticks = UInt<23>{0};
+      tb.cfg.prescale.divider = UInt<16>{prescale};
+      tb.cfg.stall_ticks.ticks = UInt<23>{0};
       QuadratureSource source{edges_per_s / kClockHz};
       const double ticks_per_clock = 1.0 / (prescale + 1.0);
       const double truth = ticks_per_clock / source.rate();  // ticks per edge
@@ -79,7 +79,7 @@ TEST(EppmSpeed, PeriodModeIsWithinOneTickPerEdgeOverTheRange) {
         tb.run(source, 1);
         if (!tb.dut.period().sampled)
           continue;
-        const auto speed = tb.dut.speed(tb.cfg);
+        const auto speed = tb.dut.status(tb.cfg).speed;
         if (!speed.valid)
           continue;  // the first edge only starts a measurement
         ++samples;
@@ -107,14 +107,14 @@ TEST(EppmSpeed, AutomaticSwitchChoosesTheMoreAccurateMode) {
     SCOPED_TRACE(testing::Message() << edges_per_s << " edges/s, " << per_window << " per window");
     for (const SpeedMode start : {SpeedMode::kPeriod, SpeedMode::kPulse}) {
       EppmBench tb;
-      tb.cfg.to_period_below = UInt<23>{thresholds.to_period_below};
-      tb.cfg.to_pulse_at = UInt<23>{thresholds.to_pulse_at};
+      tb.cfg.to_period_below.edges = UInt<23>{thresholds.to_period_below};
+      tb.cfg.to_pulse_at.edges = UInt<23>{thresholds.to_pulse_at};
       select(tb, start == SpeedMode::kPulse ? SpeedModeSelect::kPulse : SpeedModeSelect::kPeriod);
       QuadratureSource source{edges_per_s / kClockHz};
       tb.run(source, timing.window_clocks);
       select(tb, SpeedModeSelect::kAuto);
       tb.run(source, 3 * timing.window_clocks);
-      const auto speed = tb.dut.speed(tb.cfg);
+      const auto speed = tb.dut.status(tb.cfg).speed;
       const auto expected = pulse_error < period_error ? SpeedMode::kPulse : SpeedMode::kPeriod;
       EXPECT_EQ(speed.mode.value(), static_cast<unsigned>(expected));
       // The chosen reading is within its own bound, which beats the other's.
@@ -131,14 +131,14 @@ TEST(EppmSpeed, AutomaticSwitchChoosesTheMoreAccurateMode) {
 // to_pulse_at: with a band the mode settles, without one it chatters.
 int mode_changes(std::uint32_t to_period_below, std::uint32_t to_pulse_at) {
   EppmBench tb;
-  tb.cfg.to_period_below = UInt<23>{to_period_below};
-  tb.cfg.to_pulse_at = UInt<23>{to_pulse_at};
+  tb.cfg.to_period_below.edges = UInt<23>{to_period_below};
+  tb.cfg.to_pulse_at.edges = UInt<23>{to_pulse_at};
   const double window = window_of(tb);
   QuadratureSource source{(to_pulse_at - 0.5) / window};
   int changes = 0;
   auto mode = tb.dut.pulse().mode;
   for (int i = 0; i < 60; ++i) {
-    tb.run(source, tb.cfg.window_clocks.value());
+    tb.run(source, tb.cfg.window.clocks.value());
     changes += tb.dut.pulse().mode != mode;
     mode = tb.dut.pulse().mode;
   }
@@ -154,7 +154,7 @@ TEST(EppmSpeed, ForcedModeTakesEffectAtTheWindowEnd) {
   EppmBench tb;
   tb.clock(100);
   select(tb, SpeedModeSelect::kPulse);
-  tb.clock(tb.cfg.window_clocks.value() - 101);
+  tb.clock(tb.cfg.window.clocks.value() - 101);
   EXPECT_EQ(tb.dut.pulse().mode.value(), static_cast<unsigned>(SpeedMode::kPeriod));
   tb.clock();
   EXPECT_EQ(tb.dut.pulse().mode.value(), static_cast<unsigned>(SpeedMode::kPulse));
@@ -165,8 +165,8 @@ TEST(EppmSpeed, BackwardSpeedsAreNegativeInBothModes) {
     EppmBench tb;
     select(tb, mode);
     QuadratureSource source{-0.001};
-    tb.run(source, 3 * tb.cfg.window_clocks.value());
-    const auto speed = tb.dut.speed(tb.cfg);
+    tb.run(source, 3 * tb.cfg.window.clocks.value());
+    const auto speed = tb.dut.status(tb.cfg).speed;
     EXPECT_TRUE(speed.valid);
     EXPECT_LT(speed.value.value(), 0);
     const double truth =
@@ -180,22 +180,22 @@ TEST(EppmSpeed, ReversalInsideAPeriodMarksTheSampleInvalid) {
   select(tb, SpeedModeSelect::kPeriod);
   QuadratureSource source{0.0005};
   tb.run(source, 20'000);  // ~10 edges
-  ASSERT_TRUE(tb.dut.speed(tb.cfg).valid);
+  ASSERT_TRUE(tb.dut.status(tb.cfg).speed.valid);
   source.set_rate(-0.0005);
   while (!tb.dut.period().sampled)
     tb.run(source, 1);  // the first edge after the reversal
-  EXPECT_FALSE(tb.dut.speed(tb.cfg).valid);
-  EXPECT_EQ(tb.dut.speed(tb.cfg).value.value(), 0);
+  EXPECT_FALSE(tb.dut.status(tb.cfg).speed.valid);
+  EXPECT_EQ(tb.dut.status(tb.cfg).speed.value.value(), 0);
   tb.run(source, 1);
   while (!tb.dut.period().sampled)
     tb.run(source, 1);
-  EXPECT_TRUE(tb.dut.speed(tb.cfg).valid);
-  EXPECT_LT(tb.dut.speed(tb.cfg).value.value(), 0);
+  EXPECT_TRUE(tb.dut.status(tb.cfg).speed.valid);
+  EXPECT_LT(tb.dut.status(tb.cfg).speed.value.value(), 0);
 }
 
 TEST(EppmSpeed, StallReadsZeroAfterExactlyStallTicks) {
   EppmBench tb;
-  tb.cfg.stall_ticks = UInt<23>{1000};
+  tb.cfg.stall_ticks.ticks = UInt<23>{1000};
   select(tb, SpeedModeSelect::kPeriod);
   QuadratureSource source{0.01};
   tb.run(source, 10'000);
@@ -206,12 +206,12 @@ TEST(EppmSpeed, StallReadsZeroAfterExactlyStallTicks) {
     tb.run(source, 1);
     since_edge = tb.dut.period().sampled ? 0 : since_edge + 1;
   }
-  ASSERT_FALSE(tb.dut.speed(tb.cfg).stalled);
+  ASSERT_FALSE(tb.dut.status(tb.cfg).speed.stalled);
   while (tb.dut.period().count.value() < 999)
     tb.clock();
-  EXPECT_FALSE(tb.dut.speed(tb.cfg).stalled);
-  tb.clock(tb.cfg.prescale.value() + 1);
-  const auto speed = tb.dut.speed(tb.cfg);
+  EXPECT_FALSE(tb.dut.status(tb.cfg).speed.stalled);
+  tb.clock(tb.cfg.prescale.divider.value() + 1);
+  const auto speed = tb.dut.status(tb.cfg).speed;
   EXPECT_TRUE(speed.stalled);
   EXPECT_TRUE(speed.valid);
   EXPECT_EQ(speed.value.value(), 0);
@@ -219,14 +219,14 @@ TEST(EppmSpeed, StallReadsZeroAfterExactlyStallTicks) {
   source.set_rate(0.01);
   while (!tb.dut.period().sampled)
     tb.run(source, 1);
-  EXPECT_FALSE(tb.dut.speed(tb.cfg).valid);
-  EXPECT_FALSE(tb.dut.speed(tb.cfg).stalled);
+  EXPECT_FALSE(tb.dut.status(tb.cfg).speed.valid);
+  EXPECT_FALSE(tb.dut.status(tb.cfg).speed.stalled);
 }
 
 TEST(EppmSpeed, PeriodCounterSaturatesAndFlagsOverflow) {
   EppmBench tb;
-  tb.cfg.prescale = UInt<16>{0};  // a tick every clock
-  tb.cfg.stall_ticks = UInt<23>{0};
+  tb.cfg.prescale.divider = UInt<16>{0};  // a tick every clock
+  tb.cfg.stall_ticks.ticks = UInt<23>{0};
   select(tb, SpeedModeSelect::kPeriod);
   tb.set_pins(0b10);  // one edge arms the measurement
   tb.clock(tb.latency());
@@ -242,7 +242,7 @@ TEST(EppmSpeed, PeriodCounterSaturatesAndFlagsOverflow) {
   tb.set_pins(0b11);
   tb.clock(tb.latency());
   EXPECT_EQ(tb.dut.period().last.value(), kMax);
-  EXPECT_FALSE(tb.dut.speed(tb.cfg).valid);
+  EXPECT_FALSE(tb.dut.status(tb.cfg).speed.valid);
   EXPECT_TRUE(tb.dut.period().overflow);
   tb.clear_flags();
   EXPECT_FALSE(tb.dut.period().overflow);

@@ -9,22 +9,23 @@
 #include <string>
 #include <vector>
 
+#include "odoloc/board/chip_link.hpp"
+#include "odoloc/board/encoder_pins.hpp"
 #include "odoloc/regs.hpp"
-#include "odoloc/sim/chip_link.hpp"
-#include "odoloc/sim/quadrature_source.hpp"
 #include "odoloc/sw/spi_frame.hpp"
+#include "odoloc/world/quadrature_source.hpp"
 
 namespace {
 
 namespace regs = odoloc::regs;
+using odoloc::board::ChipLink;
+using odoloc::board::SpiPinMaster;
+using odoloc::rtl::Encoder;
 using odoloc::rtl::UInt;
-using odoloc::rtl::Wheel;
-using odoloc::sim::ChipLink;
-using odoloc::sim::QuadratureSource;
-using odoloc::sim::SpiPinMaster;
 using odoloc::sw::BusError;
 using odoloc::sw::SpiOp;
 using odoloc::sw::SpiRegisterBus;
+using odoloc::world::QuadratureSource;
 using Words = std::vector<std::uint32_t>;
 
 constexpr std::uint32_t kRefused = regs::top::spi_status::write_refused.mask();
@@ -47,7 +48,7 @@ struct Encoders {
   std::array<QuadratureSource, 4> sources;
   void operator()(std::array<UInt<2>, 4>& pins) {
     for (std::size_t w = 0; w < 4; ++w)
-      pins[w] = sources[w].tick();
+      pins[w] = odoloc::board::encoder_pins(sources[w].tick());
   }
 };
 
@@ -122,32 +123,33 @@ TEST(OdolocChip, RwRegistersStoreTheirBitsAndDriveTheFabric) {
     for (const auto& [r, v] : written)
       EXPECT_EQ(b.bus.read(r->address), v & r->rw_mask) << r->path;
 
-    const odoloc::rtl::OdometryFabricConfig& c = b.link.chip().config();
+    const odoloc::ports::Config& c = b.link.chip().config();
     for (unsigned i = 0; i < 4; ++i) {
       namespace e = regs::eppm;
       const std::uint32_t cfg = b.bus.read(e::cfg::address(i));
-      EXPECT_EQ(c.eppm[i].filter_clocks.value(), e::cfg::filter_clocks.get(cfg));
-      EXPECT_EQ(c.eppm[i].decode_mode.value(), e::cfg::decode_mode.get(cfg));
-      EXPECT_EQ(c.eppm[i].speed_mode_select.value(), e::cfg::speed_mode_select.get(cfg));
-      EXPECT_EQ(c.eppm[i].window_clocks.value(), b.bus.read(e::window::address(i)));
-      EXPECT_EQ(c.eppm[i].prescale.value(), b.bus.read(e::prescale::address(i)));
-      EXPECT_EQ(c.eppm[i].to_period_below.value(), b.bus.read(e::to_period_below::address(i)));
-      EXPECT_EQ(c.eppm[i].to_pulse_at.value(), b.bus.read(e::to_pulse_at::address(i)));
-      EXPECT_EQ(c.eppm[i].stall_ticks.value(), b.bus.read(e::stall_ticks::address(i)));
+      EXPECT_EQ(c.eppm[i].cfg.filter_clocks.value(), e::cfg::filter_clocks.get(cfg));
+      EXPECT_EQ(c.eppm[i].cfg.decode_mode.value(), e::cfg::decode_mode.get(cfg));
+      EXPECT_EQ(c.eppm[i].cfg.speed_mode_select.value(), e::cfg::speed_mode_select.get(cfg));
+      EXPECT_EQ(c.eppm[i].window.clocks.value(), b.bus.read(e::window::address(i)));
+      EXPECT_EQ(c.eppm[i].prescale.divider.value(), b.bus.read(e::prescale::address(i)));
+      EXPECT_EQ(c.eppm[i].to_period_below.edges.value(),
+                b.bus.read(e::to_period_below::address(i)));
+      EXPECT_EQ(c.eppm[i].to_pulse_at.edges.value(), b.bus.read(e::to_pulse_at::address(i)));
+      EXPECT_EQ(c.eppm[i].stall_ticks.ticks.value(), b.bus.read(e::stall_ticks::address(i)));
     }
     namespace o = regs::odometry;
     const std::uint32_t cfg = b.read("odometry.cfg");
-    EXPECT_EQ(c.odometry.update_clocks.value(), o::cfg::update_clocks.get(cfg));
-    EXPECT_EQ(c.odometry.policy.value(), o::cfg::policy.get(cfg));
-    EXPECT_EQ(c.odometry.select_shift.value(), o::cfg::select_shift.get(cfg));
-    EXPECT_EQ(c.odometry.rear_ds_scale.value(), b.read("odometry.rear_ds_scale"));
-    EXPECT_EQ(c.odometry.rear_dtheta_scale.value(), b.read("odometry.rear_dtheta_scale"));
-    EXPECT_EQ(c.odometry.front_ds_scale.value(), b.read("odometry.front_ds_scale"));
-    EXPECT_EQ(c.odometry.front_dtheta_scale.value(), b.read("odometry.front_dtheta_scale"));
-    EXPECT_EQ(c.odometry.steer_scale.value(), b.read("odometry.steer_scale"));
-    EXPECT_EQ(c.odometry.steer_limit.value(), b.read("odometry.steer_limit"));
-    EXPECT_EQ(c.odometry.select_ds_threshold.value(), b.read("odometry.select_ds_threshold"));
-    EXPECT_EQ(c.odometry.select_dtheta_threshold.value(),
+    EXPECT_EQ(c.odometry.cfg.update_clocks.value(), o::cfg::update_clocks.get(cfg));
+    EXPECT_EQ(c.odometry.cfg.policy.value(), o::cfg::policy.get(cfg));
+    EXPECT_EQ(c.odometry.cfg.select_shift.value(), o::cfg::select_shift.get(cfg));
+    EXPECT_EQ(c.odometry.rear_ds_scale.value.value(), b.read("odometry.rear_ds_scale"));
+    EXPECT_EQ(c.odometry.rear_dtheta_scale.value.value(), b.read("odometry.rear_dtheta_scale"));
+    EXPECT_EQ(c.odometry.front_ds_scale.value.value(), b.read("odometry.front_ds_scale"));
+    EXPECT_EQ(c.odometry.front_dtheta_scale.value.value(), b.read("odometry.front_dtheta_scale"));
+    EXPECT_EQ(c.odometry.steer_scale.value.value(), b.read("odometry.steer_scale"));
+    EXPECT_EQ(c.odometry.steer_limit.value.value(), b.read("odometry.steer_limit"));
+    EXPECT_EQ(c.odometry.select_ds_threshold.value.value(), b.read("odometry.select_ds_threshold"));
+    EXPECT_EQ(c.odometry.select_dtheta_threshold.value.value(),
               b.read("odometry.select_dtheta_threshold"));
   }
 }
@@ -195,7 +197,7 @@ TEST(OdolocChip, EppmStatusClearsExactlyTheBitsWritten) {
   namespace e = regs::eppm;
   ChipBench b;
   b.stop_odometry();  // its latch-and-clear would restart the count
-  const unsigned left = static_cast<unsigned>(Wheel::kLeftRear);
+  const unsigned left = static_cast<unsigned>(Encoder::kLeftRear);
   // carry: 2^19 forward edges; phase error: both channels change at once.
   b.encoders.sources[left].set_rate(0.25);
   b.link.advance((1U << 19) * 4 + 200);
@@ -232,7 +234,7 @@ TEST(OdolocChip, EppmStatusClearsExactlyTheBitsWritten) {
 TEST(OdolocChip, ClearFlagsCommandClearsEveryStickyFlag) {
   namespace e = regs::eppm;
   ChipBench b;
-  const unsigned right = static_cast<unsigned>(Wheel::kRightRear);
+  const unsigned right = static_cast<unsigned>(Encoder::kRightRear);
   b.bus.write(e::prescale::address(right), 0);
   b.link.advance((std::uint64_t{1} << 23) + 100);
   ASSERT_EQ(e::status::period_overflow.get(b.bus.read(e::status::address(right))), 1U);
@@ -329,10 +331,10 @@ TEST(OdolocChip, BurstReadsOneInstant) {
   for (int i = 0; i < 20; ++i) {
     Words words(span);
     const std::int64_t before =
-        b.link.chip().fabric().encoders().eppm(Wheel::kLeftRear).count().value();
+        b.link.chip().fabric().encoders().eppm(Encoder::kLeftRear).count().value();
     b.bus.read(static_cast<std::uint16_t>(left), words);
     const std::int64_t after =
-        b.link.chip().fabric().encoders().eppm(Wheel::kLeftRear).count().value();
+        b.link.chip().fabric().encoders().eppm(Encoder::kLeftRear).count().value();
     const std::int64_t l = e::count::value.get_signed(words.front());
     EXPECT_EQ(words.front(), words.back()) << i;
     EXPECT_GT(l, previous);
@@ -465,7 +467,7 @@ TEST(OdolocChip, GatedAndUngatedChipsAgree) {
   std::uint64_t clocks = 0;
   const auto step = [&](UInt<1> sclk, UInt<1> cs_n, UInt<1> mosi) {
     for (std::size_t w = 0; w < 4; ++w)
-      pins.encoders[w] = sources[w].tick();
+      pins.encoders[w] = odoloc::board::encoder_pins(sources[w].tick());
     pins.sclk = sclk;
     pins.cs_n = cs_n;
     pins.mosi = mosi;
@@ -476,8 +478,8 @@ TEST(OdolocChip, GatedAndUngatedChipsAgree) {
     EXPECT_EQ(gated.registers().regs(), full.registers().regs()) << clocks;
     for (const regs::Register& r : regs::kRegisters) {
       const auto a = UInt<10>::truncate(r.address);
-      if (gated.registers().read(a, gated.fabric(), gated.config()) !=
-          full.registers().read(a, full.fabric(), full.config())) {
+      if (gated.registers().read(a, gated.fabric().status(gated.config())) !=
+          full.registers().read(a, full.fabric().status(full.config()))) {
         ADD_FAILURE() << r.path << " differs at clock " << clocks;
         return full.miso();
       }

@@ -172,14 +172,26 @@ TEST(MinSelect, LeakySumsIgnoreQuantisationAndHysteresisHoldsTheChoice) {
 
 TEST(OdometrySequencer, UpdateLatencyIsExactAndOverrunIsFlagged) {
   OdometryBench bench;
+  bench.drive(1.0, 0.0);
+  bench.run(20'000);
   while (bench.fabric.phase() != odoloc::rtl::OdometryPhase::kLatch)
     bench.step();
   const std::uint64_t latch = bench.clocks;
-  bench.run_to_next_update();
+  const auto updates = bench.fabric.sequencer().updates;
+  const auto pose = bench.fabric.pose();
+  const auto report = bench.fabric.report();
+  while (bench.fabric.sequencer().updates == updates) {
+    // The pose and the report change on the update count's edge, not before.
+    ASSERT_EQ(bench.fabric.pose(), pose) << bench.clocks - latch;
+    ASSERT_EQ(bench.fabric.report(), report) << bench.clocks - latch;
+    bench.step();
+  }
+  EXPECT_NE(bench.fabric.pose(), pose);
+  EXPECT_NE(bench.fabric.report(), report);
   EXPECT_EQ(bench.clocks - 1 - latch, odoloc::rtl::OdometrySequencer::kUpdateLatencyClocks);
-  EXPECT_EQ(odoloc::rtl::OdometrySequencer::kUpdateLatencyClocks, 40U);  // 800 ns << 100 us
+  EXPECT_EQ(odoloc::rtl::OdometrySequencer::kUpdateLatencyClocks, 39U);  // 780 ns << 100 us
   EXPECT_FALSE(bench.fabric.sequencer().overrun);
-  bench.cfg.odometry.update_clocks = UInt<16>{30};
+  bench.cfg.odometry.cfg.update_clocks = UInt<16>{30};
   bench.run(200);
   EXPECT_TRUE(bench.fabric.sequencer().overrun);
 }
@@ -209,7 +221,7 @@ void check_drive(const Drive& d) {
   bench.run_to_next_update();
   // The latched counts trail the pins by the EPPM latency.
   const double t = (static_cast<double>(bench.latch_clock) - static_cast<double>(drive_start) -
-                    static_cast<double>(bench.cfg.eppm[0].filter_clocks.value() + 3)) /
+                    static_cast<double>(bench.cfg.eppm[0].cfg.filter_clocks.value() + 3)) /
                    odoloc::sw::kFabricClockHz;
   const double s = d.v * std::min(t, d.seconds);
   const double curvature = std::tan(phi) / bench.geometry.wheelbase_m;

@@ -7,36 +7,38 @@
 #include <cmath>
 #include <cstdio>
 
-#include "odoloc/scenario/odometry_scenario.hpp"
+#include "odoloc/board/scenario_runner.hpp"
+#include "odoloc/world/scenarios.hpp"
 
 namespace {
 
+using odoloc::board::RunResult;
 using odoloc::rtl::MinSelectPolicy;
-using odoloc::scenario::BumpCase;
-using odoloc::scenario::RunResult;
+using odoloc::world::BumpCase;
 
 constexpr double kDirectionError = M_PI / 65536 + 1.4143 / 16384;  // docs/odometry.md
 constexpr int kBumps = 3;
 
 // Quantisation bound of a clean straight run (docs/odometry.md): direction
 // error per metre, plus one edge per wheel of distance and heading.
-double clean_bound(const odoloc::scenario::Scenario& s, double distance) {
-  const auto g = odoloc::scenario::nominal_geometry(s.geometry);
+double clean_bound(const odoloc::world::Scenario& s, double distance) {
+  const auto g = odoloc::board::nominal_geometry(s.geometry);
   const double kappa = std::max(g.rear.metres_per_edge(), g.front.metres_per_edge());
   const double heading = 2 * g.rear.metres_per_edge() / g.rear_track_m;
   return distance * (kDirectionError + heading) + 2 * kappa;
 }
 
 RunResult run(BumpCase c, MinSelectPolicy policy) {
-  const RunResult r = odoloc::scenario::run(odoloc::scenario::bump_scenario(c), {policy, false, 0});
+  const RunResult r =
+      odoloc::board::run_scenario(odoloc::world::bump_scenario(c), {policy, false, 0});
   std::printf("%-28s policy %d: position error %8.3f mm, heading error %9.5f mrad\n",
-              odoloc::scenario::name(c), static_cast<int>(policy), 1e3 * r.position_error_m,
+              odoloc::world::name(c), static_cast<int>(policy), 1e3 * r.position_error_m,
               1e3 * r.heading_error_rad);
   return r;
 }
 
 TEST(OdometryScenario, NoDisturbanceAllSourcesWithinTheQuantisationBound) {
-  const auto s = odoloc::scenario::bump_scenario(BumpCase::kNone);
+  const auto s = odoloc::world::bump_scenario(BumpCase::kNone);
   for (const MinSelectPolicy p :
        {MinSelectPolicy::kRearOnly, MinSelectPolicy::kFrontOnly, MinSelectPolicy::kPerComponent}) {
     const RunResult r = run(BumpCase::kNone, p);
@@ -49,11 +51,10 @@ TEST(OdometryScenario, NoDisturbanceAllSourcesWithinTheQuantisationBound) {
 // of each bump's over-count reaches the pose: tau_ds of distance and
 // tau_dtheta of heading, which then tilts the rest of the run.
 void expect_min_select_wins(BumpCase c, MinSelectPolicy affected) {
-  const auto s = odoloc::scenario::bump_scenario(c);
+  const auto s = odoloc::world::bump_scenario(c);
   const RunResult single = run(c, affected);
   const RunResult min_select = run(c, MinSelectPolicy::kPerComponent);
-  const auto threshold =
-      odoloc::sw::min_select_setup(odoloc::scenario::nominal_geometry(s.geometry));
+  const auto threshold = odoloc::sw::min_select_setup(odoloc::board::nominal_geometry(s.geometry));
   const double tau_ds = std::ldexp(static_cast<double>(threshold.ds_threshold), -32);
   const double tau_dtheta =
       2 * M_PI * std::ldexp(static_cast<double>(threshold.dtheta_threshold), -40);

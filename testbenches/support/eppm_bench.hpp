@@ -4,8 +4,9 @@
 
 #include <cstdint>
 
+#include "odoloc/board/encoder_pins.hpp"
 #include "odoloc/rtl/eppm.hpp"
-#include "odoloc/sim/quadrature_source.hpp"
+#include "odoloc/world/quadrature_source.hpp"
 
 namespace odoloc::tb {
 
@@ -36,20 +37,21 @@ struct EppmBench {
     clock();
   }
   void clear_flags() {
-    in.clear = rtl::EppmFlagClear::all(rtl::UInt<1>{1});
+    const rtl::UInt<1> one{1};
+    in.clear.status = {.phase_error = one, .carry = one, .borrow = one, .period_overflow = one};
     clock();
   }
   // Drives the pins from a quadrature source for n clocks.
-  void run(sim::QuadratureSource& source, std::uint64_t n) {
+  void run(world::QuadratureSource& source, std::uint64_t n) {
     for (std::uint64_t i = 0; i < n; ++i) {
-      set_pins(static_cast<unsigned>(source.tick().value()));
+      set_pins(static_cast<unsigned>(board::encoder_pins(source.tick()).value()));
       clock();
     }
   }
   [[nodiscard]] std::int64_t count() const { return dut.count().value(); }
   // Clocks from a pin change to the counter: synchroniser, filter, decoder.
   [[nodiscard]] unsigned latency() const {
-    const auto n = static_cast<unsigned>(cfg.filter_clocks.value());
+    const auto n = static_cast<unsigned>(cfg.cfg.filter_clocks.value());
     return (n > 1 ? n : 1U) + 3;
   }
 };

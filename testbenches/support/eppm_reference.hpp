@@ -25,14 +25,14 @@ namespace odoloc::tb {
 // The configuration as plain numbers, with the documented "0 behaves as 1" rules.
 struct EppmRefConfig {
   explicit EppmRefConfig(const rtl::EppmConfig& c)
-      : filter_len(std::max<std::uint64_t>(c.filter_clocks.value(), 1)),
-        decode_mode(c.decode_mode.value()),
-        select(c.speed_mode_select.value()),
-        window(std::max<std::uint64_t>(c.window_clocks.value(), 1)),
-        tick_every(c.prescale.value() + 1),
-        to_period_below(c.to_period_below.value()),
-        to_pulse_at(c.to_pulse_at.value()),
-        stall_ticks(c.stall_ticks.value()) {}
+      : filter_len(std::max<std::uint64_t>(c.cfg.filter_clocks.value(), 1)),
+        decode_mode(c.cfg.decode_mode.value()),
+        select(c.cfg.speed_mode_select.value()),
+        window(std::max<std::uint64_t>(c.window.clocks.value(), 1)),
+        tick_every(c.prescale.divider.value() + 1),
+        to_period_below(c.to_period_below.edges.value()),
+        to_pulse_at(c.to_pulse_at.edges.value()),
+        stall_ticks(c.stall_ticks.ticks.value()) {}
   std::uint64_t filter_len;  // N
   std::uint64_t decode_mode;
   std::uint64_t select;

@@ -6,10 +6,11 @@
 #include <cmath>
 #include <cstdint>
 
+#include "odoloc/board/encoder_pins.hpp"
+#include "odoloc/board/scenario_runner.hpp"
 #include "odoloc/rtl/odometry_fabric.hpp"
-#include "odoloc/scenario/odometry_scenario.hpp"
-#include "odoloc/sim/quadrature_source.hpp"
 #include "odoloc/sw/odometry_setup.hpp"
+#include "odoloc/world/quadrature_source.hpp"
 
 namespace odoloc::tb {
 
@@ -29,29 +30,30 @@ inline double angle_difference(double a, double b) {
 struct OdometryBench {
   sw::VehicleGeometry geometry;
   rtl::OdometryFabric fabric;
-  rtl::OdometryFabricConfig cfg;
-  rtl::OdometryFabric::Inputs in;
-  std::array<sim::QuadratureSource, rtl::kWheelCount> sources{};
+  rtl::OdometryFabric::Config cfg;  // the configuration ports, set without register traffic
+  rtl::OdometryFabric::In in;
+  std::array<world::QuadratureSource, rtl::kEncoderCount> sources{};  // by fabric input
   std::uint64_t clocks = 0;
   std::uint64_t latch_clock = 0;  // the clock whose edge latched the counts of the last update
 
   explicit OdometryBench(rtl::MinSelectPolicy policy = rtl::MinSelectPolicy::kPerComponent,
                          bool paper_min_select = false) {
-    cfg.odometry = scenario::odometry_config(geometry, policy, paper_min_select);
+    cfg.odometry = board::odometry_config(geometry, policy, paper_min_select);
   }
 
   void set_pose(const SiPose& p) {
-    in.set_pose = rtl::UInt<1>{1};
-    in.pose = {rtl::SInt<64>{sw::metres_to_pose(p.x)}, rtl::SInt<64>{sw::metres_to_pose(p.y)},
-               rtl::UInt<40>{sw::radians_to_heading(p.theta)}};
+    cfg.odometry.set_x.bits = rtl::SInt<64>{sw::metres_to_pose(p.x)};
+    cfg.odometry.set_y.bits = rtl::SInt<64>{sw::metres_to_pose(p.y)};
+    cfg.odometry.set_theta.bits = rtl::UInt<40>{sw::radians_to_heading(p.theta)};
+    in.odometry.command.set_pose = rtl::UInt<1>{1};
     step();
-    in.set_pose = rtl::UInt<1>{};
+    in.odometry.command.set_pose = rtl::UInt<1>{};
   }
   void step() {
     if (fabric.phase() == rtl::OdometryPhase::kLatch)
       latch_clock = clocks;
-    for (std::size_t w = 0; w < rtl::kWheelCount; ++w)
-      in.pins[w] = sources[w].tick();
+    for (std::size_t w = 0; w < rtl::kEncoderCount; ++w)
+      in.pins[w] = board::encoder_pins(sources[w].tick());
     fabric.step(in, cfg);
     ++clocks;
   }
@@ -73,7 +75,7 @@ struct OdometryBench {
   double steer_to(double phi) {
     const double turns_per_edge = geometry.steering.turns_per_edge();
     const auto target = static_cast<std::int64_t>(std::lround(phi / (2 * M_PI) / turns_per_edge));
-    auto& s = sources[static_cast<std::size_t>(rtl::Wheel::kSteering)];
+    auto& s = sources[static_cast<std::size_t>(rtl::Encoder::kSteering)];
     while (s.edges() != target) {
       s.set_rate(s.edges() < target ? 0.05 : -0.05);
       step();

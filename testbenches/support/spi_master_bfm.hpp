@@ -6,13 +6,13 @@
 #include <span>
 #include <vector>
 
-#include "odoloc/sim/spi_pin_master.hpp"
+#include "odoloc/board/spi_pin_master.hpp"
 #include "odoloc/sw/spi_frame.hpp"
 
 namespace odoloc::tb {
 
-using SpiMasterBfm = sim::SpiPinMaster;
-using sim::SpiMasterConfig;
+using SpiMasterBfm = board::SpiPinMaster;
+using board::SpiMasterConfig;
 using sw::SpiOp;
 
 // The MOSI bytes of one frame; for a read, words.size() sets the burst length.

@@ -19,9 +19,9 @@
 #include <vector>
 
 #include "enum_name.hpp"
+#include "odoloc/board/sim_target.hpp"
 #include "odoloc/regs.hpp"
 #include "odoloc/rtl/clocked.hpp"
-#include "odoloc/sim/sim_target.hpp"
 #include "vcd_check.hpp"
 
 extern char** environ;
@@ -119,7 +119,7 @@ void expect_usage_error(const Result& r, const std::string& needle) {
 using odoloc::tb::enum_name;
 
 TEST(CliE2e, TheDrivingScenarioExists) {
-  const std::vector<std::string> known = odoloc::sim::SimTarget::scenarios();
+  const std::vector<std::string> known = odoloc::board::SimTarget::scenarios();
   EXPECT_NE(std::ranges::find(known, kDrivingScenario), known.end());
 }
 

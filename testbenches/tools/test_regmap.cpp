@@ -6,10 +6,13 @@
 #include <yaml-cpp/yaml.h>
 
 #include <fstream>
+#include <map>
+#include <random>
 #include <set>
 #include <sstream>
 #include <string>
 
+#include "odoloc/ports.hpp"
 #include "odoloc/regmap/regmap.hpp"
 #include "odoloc/regs.hpp"
 #include "odoloc/rtl/eppm.hpp"
@@ -22,11 +25,15 @@ unsigned odoloc_c_speed_mode_mask(void);
 unsigned odoloc_c_odometry_cfg_reset(void);
 unsigned odoloc_c_policy_rear_only(void);
 unsigned odoloc_c_set_decode(unsigned word, unsigned value);
+unsigned odoloc_c_fabric_clock_period_ns(void);
+unsigned odoloc_c_spi_max_sclk_hz(void);
+unsigned odoloc_c_spi_crc_polynomial(void);
 }
 
 namespace {
 
 namespace regs = odoloc::regs;
+namespace ports = odoloc::ports;
 using odoloc::regmap::RegmapError;
 
 std::string read_file(const std::string& path) {
@@ -48,10 +55,48 @@ regs::Access access_named(const std::string& a) {
   return regs::Access::kW1p;
 }
 
-// Walks the YAML by hand and finds each register in the generated table.
-TEST(RegisterMap, GeneratedCppHeaderMatchesTheDescription) {
+regs::HwAccess hw_named(const std::string& h) {
+  if (h == "r")
+    return regs::HwAccess::kR;
+  if (h == "w")
+    return regs::HwAccess::kW;
+  if (h == "set")
+    return regs::HwAccess::kSet;
+  if (h == "count")
+    return regs::HwAccess::kCount;
+  return regs::HwAccess::kNone;
+}
+
+std::uint64_t ones(unsigned width) {
+  return width >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << width) - 1;
+}
+
+// The description as this test reads it, independently of the generator:
+// one entry per register word at its address, wide registers split by hand.
+struct YField {
+  std::string name;
+  unsigned lsb = 0, width = 0;  // in the register word
+  regs::Access access{};
+  regs::HwAccess hw{};
+  bool is_signed = false;
+  std::uint32_t reset = 0;
+  unsigned port_width = 0, port_shift = 0;  // the hardware port and this slice's place in it
+  bool port_signed = false;
+  [[nodiscard]] std::uint32_t mask() const {
+    return static_cast<std::uint32_t>(ones(width) << lsb);
+  }
+};
+struct YRegister {
+  std::string path, block, port_register;  // port_register: the wide name for a word
+  int instance = -1;
+  unsigned address = 0;
+  regs::Access access{};
+  std::vector<YField> fields;
+};
+
+std::vector<YRegister> read_description() {
   const YAML::Node root = YAML::LoadFile(ODOLOC_REGMAP_YAML);
-  std::set<std::string> seen;
+  std::vector<YRegister> out;
   for (const auto& block : root["blocks"]) {
     if (block["reserved"])
       continue;
@@ -59,71 +104,120 @@ TEST(RegisterMap, GeneratedCppHeaderMatchesTheDescription) {
     for (const auto& i : block["instances"])
       instances.push_back(i.as<std::string>());
     const auto count = std::max<std::size_t>(1, instances.size());
+    const auto stride = block["stride"] ? block["stride"].as<unsigned>() : 0U;
     for (std::size_t i = 0; i < count; ++i) {
       for (const auto& reg : block["registers"]) {
-        const std::string path = block["name"].as<std::string>() + "." +
-                                 (instances.empty() ? "" : instances[i] + ".") +
-                                 reg["name"].as<std::string>();
-        SCOPED_TRACE(path);
-        const regs::Register* r = regs::find(path);
-        ASSERT_NE(r, nullptr);
-        const auto stride = block["stride"] ? block["stride"].as<unsigned>() : 0U;
-        EXPECT_EQ(r->address,
-                  block["base"].as<unsigned>() + i * stride + reg["offset"].as<unsigned>());
-        EXPECT_EQ(r->access, access_named(reg["access"].as<std::string>()));
-        std::uint32_t reset = 0, rw = 0, w1c = 0;
-        ASSERT_EQ(r->fields.size(), reg["fields"].size());
-        for (std::size_t f = 0; f < r->fields.size(); ++f) {
-          const auto& yf = reg["fields"][f];
-          const auto& field = r->fields[f];
-          const unsigned msb = yf["bits"][0].as<unsigned>(), lsb = yf["bits"][1].as<unsigned>();
-          EXPECT_EQ(field.name, yf["name"].as<std::string>());
-          EXPECT_EQ(field.lsb, lsb);
-          EXPECT_EQ(field.width, msb - lsb + 1);
-          const std::uint32_t value = yf["reset"] ? yf["reset"].as<std::uint32_t>() : 0U;
-          reset |= value << lsb;
-          const auto access =
-              access_named((yf["access"] ? yf["access"] : reg["access"]).as<std::string>());
-          EXPECT_EQ(field.access, access);
-          if (access == regs::Access::kRw)
-            rw |= field.mask();
-          if (access == regs::Access::kW1c)
-            w1c |= field.mask();
+        const unsigned words = reg["words"] ? reg["words"].as<unsigned>() : 1U;
+        for (unsigned w = 0; w < words; ++w) {
+          YRegister r;
+          r.block = block["name"].as<std::string>();
+          r.instance = instances.empty() ? -1 : static_cast<int>(i);
+          r.port_register = reg["name"].as<std::string>();
+          const std::string name = r.port_register + (words == 1 ? "" : w == 0 ? "_lo" : "_hi");
+          r.path = r.block + "." + (instances.empty() ? "" : instances[i] + ".") + name;
+          r.address = block["base"].as<unsigned>() + static_cast<unsigned>(i) * stride +
+                      reg["offset"].as<unsigned>() + w;
+          r.access = access_named(reg["access"].as<std::string>());
+          for (const auto& yf : reg["fields"]) {
+            const unsigned msb = yf["bits"][0].as<unsigned>(), lsb = yf["bits"][1].as<unsigned>();
+            const unsigned lo = 32 * w, hi = lo + 31;
+            if (msb < lo || lsb > hi)
+              continue;
+            YField f;
+            f.name = yf["name"].as<std::string>();
+            f.lsb = std::max(lsb, lo) - lo;
+            f.width = std::min(msb, hi) - lo - f.lsb + 1;
+            f.port_width = msb - lsb + 1;
+            f.port_shift = std::max(lsb, lo) - lsb;
+            f.port_signed = yf["signed"] && yf["signed"].as<bool>();
+            f.is_signed = f.port_signed && msb <= hi;
+            const std::uint64_t reset = yf["reset"] ? yf["reset"].as<std::uint64_t>() : 0U;
+            f.reset = static_cast<std::uint32_t>((reset >> f.port_shift) & ones(f.width));
+            f.access =
+                access_named((yf["access"] ? yf["access"] : reg["access"]).as<std::string>());
+            f.hw = hw_named((yf["hw"] ? yf["hw"] : reg["hw"]).as<std::string>());
+            r.fields.push_back(f);
+          }
+          out.push_back(std::move(r));
         }
-        EXPECT_EQ(r->reset, reset);
-        EXPECT_EQ(r->rw_mask, rw);
-        EXPECT_EQ(r->w1c_mask, w1c);
-        seen.insert(path);
       }
     }
+  }
+  return out;
+}
+
+const std::vector<YRegister>& description_registers() {
+  static const std::vector<YRegister> registers = read_description();
+  return registers;
+}
+
+// Walks the YAML by hand and finds each register in the generated table.
+TEST(RegisterMap, GeneratedCppHeaderMatchesTheDescription) {
+  std::set<std::string> seen;
+  for (const YRegister& y : description_registers()) {
+    SCOPED_TRACE(y.path);
+    const regs::Register* r = regs::find(y.path);
+    ASSERT_NE(r, nullptr);
+    EXPECT_EQ(r->address, y.address);
+    EXPECT_EQ(r->access, y.access);
+    std::uint32_t reset = 0, rw = 0, w1c = 0, w1p = 0, constant = 0;
+    ASSERT_EQ(r->fields.size(), y.fields.size());
+    for (std::size_t f = 0; f < r->fields.size(); ++f) {
+      const YField& yf = y.fields[f];
+      const auto& field = r->fields[f];
+      EXPECT_EQ(field.name, yf.name);
+      EXPECT_EQ(field.lsb, yf.lsb);
+      EXPECT_EQ(field.width, yf.width);
+      EXPECT_EQ(field.is_signed, yf.is_signed) << yf.name;
+      EXPECT_EQ(field.reset, yf.reset) << yf.name;
+      EXPECT_EQ(field.access, yf.access);
+      EXPECT_EQ(field.hw, yf.hw) << yf.name;
+      reset |= yf.reset << yf.lsb;
+      if (yf.access == regs::Access::kRw)
+        rw |= yf.mask();
+      if (yf.access == regs::Access::kW1c)
+        w1c |= yf.mask();
+      if (yf.access == regs::Access::kW1p)
+        w1p |= yf.mask();
+      if (yf.access == regs::Access::kRo && yf.hw == regs::HwAccess::kNone)
+        constant |= yf.mask();
+    }
+    EXPECT_EQ(r->reset, reset);
+    EXPECT_EQ(r->rw_mask, rw);
+    EXPECT_EQ(r->w1c_mask, w1c);
+    EXPECT_EQ(r->w1p_mask, w1p);
+    EXPECT_EQ(r->const_mask, constant);
+    seen.insert(y.path);
   }
   EXPECT_EQ(seen.size(), std::size(regs::kRegisters));
   EXPECT_EQ(odoloc_c_register_count(), std::size(regs::kRegisters));
 }
 
-// The model's configuration resets are the register map's reset values.
-TEST(RegisterMap, ModelResetValuesMatchTheRegisterMap) {
-  const odoloc::rtl::EppmConfig eppm;
-  EXPECT_EQ(eppm.filter_clocks.value(), regs::eppm::cfg::filter_clocks.reset);
-  EXPECT_EQ(eppm.decode_mode.value(), regs::eppm::cfg::decode_mode.reset);
-  EXPECT_EQ(eppm.speed_mode_select.value(), regs::eppm::cfg::speed_mode_select.reset);
-  EXPECT_EQ(eppm.window_clocks.value(), regs::eppm::window::clocks.reset);
-  EXPECT_EQ(eppm.prescale.value(), regs::eppm::prescale::divider.reset);
-  EXPECT_EQ(eppm.to_period_below.value(), regs::eppm::to_period_below::edges.reset);
-  EXPECT_EQ(eppm.to_pulse_at.value(), regs::eppm::to_pulse_at::edges.reset);
-  EXPECT_EQ(eppm.stall_ticks.value(), regs::eppm::stall_ticks::ticks.reset);
-  EXPECT_EQ(regs::eppm::window::clocks.width, decltype(eppm.window_clocks)::width);
-  const odoloc::rtl::OdometryConfig odo;
-  EXPECT_EQ(odo.update_clocks.value(), regs::odometry::cfg::update_clocks.reset);
-  EXPECT_EQ(odo.policy.value(), regs::odometry::cfg::policy.reset);
-  EXPECT_EQ(odo.select_shift.value(), regs::odometry::cfg::select_shift.reset);
-  EXPECT_EQ(odo.steer_limit.value(), regs::odometry::steer_limit::value.reset);
-  EXPECT_EQ(static_cast<unsigned>(odoloc::rtl::MinSelectPolicy::kFrontOnly),
-            static_cast<unsigned>(regs::odometry::cfg::Policy::kFrontOnly));
-  EXPECT_EQ(static_cast<unsigned>(odoloc::rtl::DecodeMode::kX1),
-            static_cast<unsigned>(regs::eppm::cfg::DecodeMode::kX1));
+// The global facts: the clock and the SPI limits come from the YAML; the
+// derived ones are computed by the generator.
+TEST(RegisterMap, GlobalFactsComeFromTheDescription) {
+  const YAML::Node root = YAML::LoadFile(ODOLOC_REGMAP_YAML);
+  const auto clock = root["map"]["clock_hz"].as<std::uint32_t>();
+  EXPECT_EQ(regs::kFabricClockHz, clock);
+  EXPECT_EQ(regs::kFabricClockPeriodNs * clock, 1000000000U);
+  const YAML::Node spi = root["spi"];
+  EXPECT_EQ(regs::spi::kMaxBurst, spi["max_burst"].as<unsigned>());
+  EXPECT_EQ(regs::spi::kMinLevelClocks, spi["min_level_clocks"].as<unsigned>());
+  EXPECT_EQ(regs::spi::kMaxSclkHz, clock / (2 * spi["min_level_clocks"].as<unsigned>()));
+  EXPECT_EQ(regs::spi::kCrcPolynomial, spi["crc"]["polynomial"].as<unsigned>());
+  EXPECT_EQ(regs::spi::kCrcInit, spi["crc"]["init"].as<unsigned>());
+  EXPECT_EQ(regs::spi::kCrcXorOut, spi["crc"]["xor_out"].as<unsigned>());
+  static_assert(std::is_same_v<decltype(regs::spi::kCrcPolynomial), const std::uint8_t>);
+  EXPECT_EQ(regs::kFabricClockHz, 50000000U);
+  EXPECT_EQ(regs::kFabricClockPeriodNs, 20U);
+  EXPECT_EQ(regs::spi::kMaxSclkHz, 6250000U);
+  EXPECT_EQ(odoloc_c_fabric_clock_period_ns(), regs::kFabricClockPeriodNs);
+  EXPECT_EQ(odoloc_c_spi_max_sclk_hz(), regs::spi::kMaxSclkHz);
+  EXPECT_EQ(odoloc_c_spi_crc_polynomial(), regs::spi::kCrcPolynomial);
 }
 
+// The model takes its configuration, status and enums from the generated
+// headers, so its resets are the register map's (FabricPorts.DefaultsAreTheResetValues).
 TEST(RegisterMap, CHeaderAgreesWithTheCppHeader) {
   EXPECT_EQ(odoloc_c_eppm_steering_speed_addr(), regs::eppm::speed::address(3));
   EXPECT_EQ(odoloc_c_speed_mode_mask(), regs::eppm::speed::mode.mask());
@@ -174,13 +268,249 @@ TEST(RegisterMap, SystemRdlPlacesEveryRegisterAtItsByteAddress) {
   }
 }
 
+// ---- odoloc/ports.hpp ------------------------------------------------------
+
+template <class T>
+struct PortTraits;
+template <int W>
+struct PortTraits<odoloc::rtl::UInt<W>> {
+  static constexpr bool kSigned = false;
+  static constexpr unsigned kWidth = W;
+  static std::uint64_t raw(odoloc::rtl::UInt<W> v) { return v.value(); }
+  static void assign(odoloc::rtl::UInt<W>& p, std::uint64_t bits) {
+    p = odoloc::rtl::UInt<W>::truncate(bits);
+  }
+};
+template <int W>
+struct PortTraits<odoloc::rtl::SInt<W>> {
+  static constexpr bool kSigned = true;
+  static constexpr unsigned kWidth = W;
+  static std::uint64_t raw(odoloc::rtl::SInt<W> v) { return v.raw_bits(); }
+  static void assign(odoloc::rtl::SInt<W>& p, std::uint64_t bits) {
+    p = odoloc::rtl::UInt<W>::truncate(bits).as_sint();
+  }
+};
+
+// Which struct a field belongs to, by the test's own reading of the rules.
+bool in_config(const YField& f) {
+  return f.access == regs::Access::kRw && f.hw == regs::HwAccess::kR;
+}
+bool in_pulses(const YField& f) {
+  return (f.access == regs::Access::kW1c && f.hw == regs::HwAccess::kSet) ||
+         (f.access == regs::Access::kW1p && f.hw == regs::HwAccess::kR);
+}
+bool in_status(const YField& f) {
+  return f.hw == regs::HwAccess::kW || f.hw == regs::HwAccess::kSet ||
+         f.hw == regs::HwAccess::kCount;
+}
+
+// A port's place: block, instance, register (wide name), field.
+std::string port_key(std::string_view block, int instance, std::string_view reg,
+                     std::string_view field) {
+  return std::string(block) + "/" + std::to_string(instance) + "/" + std::string(reg) + "/" +
+         std::string(field);
+}
+std::string port_key(const YRegister& r, const YField& f) {
+  return port_key(r.block, r.instance, r.port_register, f.name);
+}
+
+// Every port of a struct, by key, as raw bits.
+template <class S>
+std::map<std::string, std::uint64_t> raw_ports(const S& s) {
+  std::map<std::string, std::uint64_t> out;
+  S::for_each_port(
+      s, [&](std::string_view b, int i, std::string_view r, std::string_view f, const auto& port) {
+        out[port_key(b, i, r, f)] = PortTraits<std::remove_cvref_t<decltype(port)>>::raw(port);
+      });
+  return out;
+}
+
+template <class S>
+void randomise(S& s, std::mt19937_64& rng) {
+  S::for_each_port(s, [&](std::string_view, int, std::string_view, std::string_view, auto& port) {
+    PortTraits<std::remove_cvref_t<decltype(port)>>::assign(port, rng());
+  });
+}
+
+// Every struct has exactly the ports the description gives it, with the
+// field's full width and signedness.
+template <class S>
+void expect_ports(bool (*belongs)(const YField&)) {
+  std::map<std::string, std::pair<unsigned, bool>> want;
+  for (const YRegister& r : description_registers()) {
+    for (const YField& f : r.fields) {
+      if (belongs(f))
+        want[port_key(r, f)] = {f.port_width, f.port_signed};
+    }
+  }
+  std::map<std::string, std::pair<unsigned, bool>> got;
+  const S s{};
+  S::for_each_port(
+      s, [&](std::string_view b, int i, std::string_view r, std::string_view f, const auto& port) {
+        using T = PortTraits<std::remove_cvref_t<decltype(port)>>;
+        EXPECT_TRUE(got.emplace(port_key(b, i, r, f), std::pair{T::kWidth, T::kSigned}).second);
+      });
+  EXPECT_EQ(got, want);
+}
+
+TEST(FabricPorts, StructsHoldExactlyTheDescribedPorts) {
+  expect_ports<ports::Config>(in_config);
+  expect_ports<ports::Pulses>(in_pulses);
+  expect_ports<ports::Status>(in_status);
+  static_assert(
+      std::is_same_v<decltype(ports::Status{}.odometry.pose_x.bits), odoloc::rtl::SInt<64>>);
+  static_assert(
+      std::is_same_v<decltype(ports::Config{}.eppm[0].window.clocks), odoloc::rtl::UInt<23>>);
+  static_assert(std::is_same_v<ports::eppm::DecodeMode, regs::eppm::cfg::DecodeMode>);
+  static_assert(std::is_same_v<ports::odometry::Phase, regs::odometry::status::Phase>);
+  EXPECT_EQ(static_cast<unsigned>(ports::odometry::Phase::kIntegrate), 9U);
+}
+
+// The default initialisers are the reset values: decoding every rw
+// register's reset word changes nothing, and a reset Status encodes to the
+// hardware-driven bits of each reset word.
+TEST(FabricPorts, DefaultsAreTheResetValues) {
+  const ports::Config defaults{};
+  ports::Config c{};
+  for (const YRegister& r : description_registers()) {
+    std::uint32_t reset = 0, driven = 0;
+    for (const YField& f : r.fields) {
+      reset |= f.reset << f.lsb;
+      driven |= in_status(f) ? f.mask() : 0U;
+    }
+    ports::decode_config(static_cast<std::uint16_t>(r.address), reset, c);
+    EXPECT_EQ(ports::encode_status(static_cast<std::uint16_t>(r.address), ports::Status{}),
+              reset & driven)
+        << r.path;
+  }
+  EXPECT_TRUE(c == defaults);
+  EXPECT_EQ(defaults.eppm[2].cfg.filter_clocks.value(), 3U);
+  EXPECT_EQ(defaults.odometry.steer_limit.value.value(), 477218588U);
+}
+
+constexpr int kTrials = 200;
+
+TEST(FabricPorts, DecodeConfigSetsExactlyTheRegistersPorts) {
+  std::mt19937_64 rng(20240611);
+  for (const YRegister& r : description_registers()) {
+    SCOPED_TRACE(r.path);
+    for (int t = 0; t < kTrials; ++t) {
+      ports::Config c;
+      randomise(c, rng);
+      auto want = raw_ports(c);
+      const auto word = static_cast<std::uint32_t>(rng());
+      for (const YField& f : r.fields) {
+        if (!in_config(f))
+          continue;
+        const std::uint64_t slice = ones(f.width) << f.port_shift;
+        auto& port = want[port_key(r, f)];
+        port = (port & ~slice) | ((std::uint64_t{(word & f.mask()) >> f.lsb} << f.port_shift));
+      }
+      ports::decode_config(static_cast<std::uint16_t>(r.address), word, c);
+      ASSERT_EQ(raw_ports(c), want);
+    }
+  }
+}
+
+TEST(FabricPorts, DecodePulsesRaisesTheWrittenOnes) {
+  std::mt19937_64 rng(7);
+  for (const YRegister& r : description_registers()) {
+    SCOPED_TRACE(r.path);
+    for (int t = 0; t < kTrials; ++t) {
+      ports::Pulses p;
+      if (t % 2 == 1)
+        randomise(p, rng);  // half the time from idle, half on top of other pulses
+      auto want = raw_ports(p);
+      const auto written = static_cast<std::uint32_t>(rng());
+      for (const YField& f : r.fields) {
+        if (in_pulses(f))
+          want[port_key(r, f)] |= (written & f.mask()) >> f.lsb;
+      }
+      ports::decode_pulses(static_cast<std::uint16_t>(r.address), written, p);
+      ASSERT_EQ(raw_ports(p), want);
+    }
+  }
+}
+
+TEST(FabricPorts, EncodeStatusPlacesTheDrivenFields) {
+  std::mt19937_64 rng(99);
+  for (int t = 0; t < kTrials; ++t) {
+    ports::Status s;
+    randomise(s, rng);
+    const auto raw = raw_ports(s);
+    for (const YRegister& r : description_registers()) {
+      std::uint32_t want = 0;
+      for (const YField& f : r.fields) {
+        if (in_status(f)) {
+          const std::uint64_t v = (raw.at(port_key(r, f)) >> f.port_shift) & ones(f.width);
+          want |= static_cast<std::uint32_t>(v) << f.lsb;
+        }
+      }
+      ASSERT_EQ(ports::encode_status(static_cast<std::uint16_t>(r.address), s), want) << r.path;
+    }
+  }
+  ports::Status s;
+  EXPECT_EQ(ports::encode_status(0x3FF, s), 0U);
+}
+
+// Wide ports: the two words assemble one value, sign included.
+TEST(FabricPorts, WidePortsAssembleTheirWords) {
+  namespace o = regs::odometry;
+  ports::Config c;
+  ports::decode_config(o::set_x_lo::kAddress, 0x89ABCDEFU, c);
+  ports::decode_config(o::set_x_hi::kAddress, 0xFEDCBA98U, c);
+  EXPECT_EQ(c.odometry.set_x.bits.value(), static_cast<std::int64_t>(0xFEDCBA9889ABCDEFULL));
+  ports::decode_config(o::set_x_lo::kAddress, 1U, c);  // the other word stays
+  EXPECT_EQ(c.odometry.set_x.bits.value(), static_cast<std::int64_t>(0xFEDCBA9800000001ULL));
+  ports::decode_config(o::set_theta_hi::kAddress, 0xFFFFFFA5U, c);  // bits 39:32 only
+  ports::decode_config(o::set_theta_lo::kAddress, 0x12345678U, c);
+  EXPECT_EQ(c.odometry.set_theta.bits.value(), 0xA512345678ULL);
+
+  ports::Status s;
+  s.odometry.pose_x.bits = odoloc::rtl::SInt<64>{-2};
+  s.odometry.rear_ds.bits = odoloc::rtl::SInt<48>{-1};
+  s.odometry.pose_theta.bits = odoloc::rtl::UInt<40>{0xC3'0000'0001ULL};
+  EXPECT_EQ(ports::encode_status(o::pose_x_lo::kAddress, s), 0xFFFFFFFEU);
+  EXPECT_EQ(ports::encode_status(o::pose_x_hi::kAddress, s), 0xFFFFFFFFU);
+  EXPECT_EQ(ports::encode_status(o::rear_ds_hi::kAddress, s), 0x0000FFFFU);
+  EXPECT_EQ(ports::encode_status(o::pose_theta_lo::kAddress, s), 1U);
+  EXPECT_EQ(ports::encode_status(o::pose_theta_hi::kAddress, s), 0xC3U);
+  // The sign of a 48-bit value read back from its words, as software does.
+  const std::int64_t hi = o::rear_ds_hi::bits.get_signed(0x0000FFFFU);
+  EXPECT_EQ(hi * (std::int64_t{1} << 32) + 0xFFFFFFFFLL, -1);
+}
+
+TEST(FabricPorts, PulsesAndPerBlockFunctions) {
+  ports::Pulses p;
+  ports::decode_pulses(regs::odometry::command::kAddress, 0x2U, p);
+  EXPECT_EQ(p.odometry.command.clear_flags.value(), 1U);
+  EXPECT_EQ(p.odometry.command.set_pose.value(), 0U);
+  ports::decode_pulses(regs::eppm::status::address(1), 0xFFFFFFFFU, p);
+  EXPECT_EQ(p.eppm[1].status.period_overflow.value(), 1U);
+  EXPECT_EQ(p.eppm[0].status.period_overflow.value(), 0U);
+  ports::eppm::Config e;
+  ports::eppm::decode_config(regs::eppm::cfg::kOffset, 0x0000'0105U, e);
+  EXPECT_EQ(e.cfg.filter_clocks.value(), 5U);
+  EXPECT_EQ(e.cfg.decode_mode.value(), static_cast<unsigned>(ports::eppm::DecodeMode::kX2));
+}
+
 // A minimal valid description to break one way at a time.
-std::string description(const std::string& blocks) {
-  return "map: {name: t, address_bits: 8, data_bits: 32}\nblocks:\n" + blocks;
+const std::string kSpi =
+    "spi: {max_burst: 32, min_level_clocks: 4, crc: {polynomial: 0x1D, init: 0xFF, xor_out: "
+    "0xFF}}\n";
+std::string description(const std::string& blocks, const std::string& spi = kSpi,
+                        const std::string& clock = "50000000") {
+  return "map: {name: t, address_bits: 8, data_bits: 32, clock_hz: " + clock + "}\n" + spi +
+         "blocks:\n" + blocks;
 }
 const std::string kGoodBlock =
     "  - name: a\n    base: 0x10\n    registers:\n"
-    "      - {name: r, offset: 0, access: rw, fields: [{name: f, bits: [7, 0], reset: 1}]}\n";
+    "      - {name: r, offset: 0, access: rw, hw: r, fields: [{name: f, bits: [7, 0], reset: "
+    "1}]}\n";
+// One register of block a at offset 0.
+std::string one(const std::string& reg) {
+  return description("  - name: a\n    base: 0\n    registers:\n      - " + reg + "\n");
+}
 
 void expect_rejected(const std::string& yaml, const std::string& reason) {
   try {
@@ -198,55 +528,179 @@ TEST(RegisterMapGenerator, AcceptsAMinimalDescription) {
 TEST(RegisterMapGenerator, RejectsInconsistentDescriptions) {
   expect_rejected(description(kGoodBlock + kGoodBlock), "duplicate block 'a'");
   expect_rejected(
-      description("  - name: a\n    base: 0\n    registers:\n"
-                  "      - {name: r, offset: 0, access: rw, fields: [{name: f, bits: [0, 0]}]}\n"
-                  "      - {name: r, offset: 1, access: rw, fields: [{name: f, bits: [0, 0]}]}\n"),
+      description(
+          "  - name: a\n    base: 0\n    registers:\n"
+          "      - {name: r, offset: 0, access: rw, hw: r, fields: [{name: f, bits: [0, 0]}]}\n"
+          "      - {name: r, offset: 1, access: rw, hw: r, fields: [{name: f, bits: [0, 0]}]}\n"),
       "duplicate register 'r'");
   expect_rejected(
-      description(kGoodBlock +
-                  "  - name: b\n    base: 0x10\n    registers:\n"
-                  "      - {name: s, offset: 0, access: ro, fields: [{name: f, bits: [0, 0]}]}\n"),
+      description(
+          kGoodBlock +
+          "  - name: b\n    base: 0x10\n    registers:\n"
+          "      - {name: s, offset: 0, access: ro, hw: w, fields: [{name: f, bits: [0, 0]}]}\n"),
       "overlaps a.r");
   expect_rejected(
       description(kGoodBlock + "  - {name: u, base: 0x8, size: 0x10, reserved: true}\n"),
       "overlaps");
   expect_rejected(
-      description("  - name: a\n    base: 0\n    registers:\n"
-                  "      - {name: r, offset: 0, access: rw, fields: [{name: f, bits: [32, 0]}]}\n"),
+      description(
+          "  - name: a\n    base: 0\n    registers:\n"
+          "      - {name: r, offset: 0, access: rw, hw: r, fields: [{name: f, bits: [32, 0]}]}\n"),
       "wider than the 32-bit register");
-  expect_rejected(description("  - name: a\n    base: 0\n    registers:\n"
-                              "      - {name: r, offset: 0, access: rw, fields: [{name: f, bits: "
-                              "[7, 0]}, {name: g, bits: [8, 7]}]}\n"),
-                  "overlaps another field");
-  expect_rejected(description("  - name: a\n    base: 0\n    registers:\n"
-                              "      - {name: r, offset: 0, access: rw, fields: [{name: f, bits: "
-                              "[3, 0], reset: 16}]}\n"),
-                  "reset value does not fit");
-  expect_rejected(description("  - name: a\n    base: 0\n    registers:\n"
-                              "      - {name: r, offset: 0, access: rw, fields: [{name: f, bits: "
-                              "[0, 0], enum: {x: 2}}]}\n"),
-                  "enum value does not fit");
+  expect_rejected(
+      description("  - name: a\n    base: 0\n    registers:\n"
+                  "      - {name: r, offset: 0, access: rw, hw: r, fields: [{name: f, bits: "
+                  "[7, 0]}, {name: g, bits: [8, 7]}]}\n"),
+      "overlaps another field");
+  expect_rejected(
+      description("  - name: a\n    base: 0\n    registers:\n"
+                  "      - {name: r, offset: 0, access: rw, hw: r, fields: [{name: f, bits: "
+                  "[3, 0], reset: 16}]}\n"),
+      "reset value does not fit");
+  expect_rejected(
+      description("  - name: a\n    base: 0\n    registers:\n"
+                  "      - {name: r, offset: 0, access: rw, hw: r, fields: [{name: f, bits: "
+                  "[0, 0], enum: {x: 2}}]}\n"),
+      "enum value does not fit");
   expect_rejected(
       description("  - name: a\n    base: 0\n    registers:\n"
                   "      - {name: r, offset: 0, access: rx, fields: [{name: f, bits: [0, 0]}]}\n"),
       "unknown access 'rx'");
   expect_rejected(
-      description("  - name: a\n    base: 0x100\n    registers:\n"
-                  "      - {name: r, offset: 0, access: rw, fields: [{name: f, bits: [0, 0]}]}\n"),
+      description(
+          "  - name: a\n    base: 0x100\n    registers:\n"
+          "      - {name: r, offset: 0, access: rw, hw: r, fields: [{name: f, bits: [0, 0]}]}\n"),
       "outside the 8-bit space");
   expect_rejected(
-      description("  - name: a\n    base: 0\n    stride: 2\n    instances: [p, p]\n    registers:\n"
-                  "      - {name: r, offset: 0, access: rw, fields: [{name: f, bits: [0, 0]}]}\n"),
+      description(
+          "  - name: a\n    base: 0\n    stride: 2\n    instances: [p, p]\n    registers:\n"
+          "      - {name: r, offset: 0, access: rw, hw: r, fields: [{name: f, bits: [0, 0]}]}\n"),
       "duplicate instance");
   expect_rejected("map: [unterminated", "YAML");
   expect_rejected(description("  - name: A\n    base: 0\n    registers: []\n"), "lower_snake_case");
+  expect_rejected(
+      description("  - name: a\n    base: 0\n    registers:\n"
+                  "      - {name: r, offset: 0, access: rw, hw: r, fields: [{name: f, bits: "
+                  "[0, 0], description: one, two}]}\n"),
+      "unknown key 'two'");
   expect_rejected(description("  - name: a\n    base: 0\n    registers:\n"
-                              "      - {name: r, offset: 0, access: rw, fields: [{name: f, bits: "
-                              "[0, 0], description: one, two}]}\n"),
-                  "unknown key 'two'");
-  expect_rejected(description("  - name: a\n    base: 0\n    registers:\n"
-                              "      - {name: r, offest: 0, access: rw, fields: []}\n"),
+                              "      - {name: r, offest: 0, access: rw, hw: r, fields: []}\n"),
                   "unknown key 'offest'");
+}
+
+TEST(RegisterMapGenerator, RejectsIllegalHardwareAccess) {
+  expect_rejected(one("{name: r, offset: 0, access: rw, fields: [{name: f, bits: [0, 0]}]}"),
+                  "missing 'hw'");
+  expect_rejected(
+      one("{name: r, offset: 0, access: rw, hw: rd, fields: [{name: f, bits: [0, 0]}]}"),
+      "unknown hw 'rd'");
+  for (const auto& [access, hw] :
+       std::vector<std::pair<std::string, std::string>>{{"rw", "w"},
+                                                        {"rw", "set"},
+                                                        {"ro", "r"},
+                                                        {"ro", "count"},
+                                                        {"w1c", "none"},
+                                                        {"w1c", "w"},
+                                                        {"rc", "w"},
+                                                        {"rc", "none"},
+                                                        {"w1p", "none"},
+                                                        {"w1p", "set"}}) {
+    expect_rejected(one("{name: r, offset: 0, access: " + access + ", hw: " + hw +
+                        ", fields: [{name: f, bits: [1, 0]}]}"),
+                    "access " + access + " cannot have hw " + hw);
+  }
+  // A field overriding the access must give a hw that goes with it.
+  expect_rejected(one("{name: r, offset: 0, access: w1c, hw: set, fields: [{name: f, bits: [0, "
+                      "0]}, {name: g, bits: [1, 1], access: ro}]}"),
+                  "r.g: access ro cannot have hw set");
+  EXPECT_NO_THROW(odoloc::regmap::parse(
+      one("{name: r, offset: 0, access: w1c, hw: set, fields: [{name: f, bits: [0, 0]}, {name: g, "
+          "bits: [1, 1], access: ro, hw: w}]}")));
+  expect_rejected(one("{name: r, offset: 0, access: ro, hw: w, fields: [{name: f, bits: [0, 0], "
+                      "signed: true}]}"),
+                  "signed field needs at least 2 bits");
+}
+
+TEST(RegisterMapGenerator, ExpandsWideRegisters) {
+  const auto map = odoloc::regmap::parse(
+      one("{name: p, offset: 2, words: 2, access: ro, hw: w, snapshot: true, description: "
+          "Pose., fields: [{name: bits, bits: [39, 0], signed: true, reset: 0x8000000001, "
+          "description: X.}]}"));
+  const auto& regs_ = map.blocks.at(0).registers;
+  ASSERT_EQ(regs_.size(), 2U);
+  EXPECT_EQ(regs_[0].name, "p_lo");
+  EXPECT_EQ(regs_[0].offset, 2U);
+  EXPECT_EQ(regs_[1].name, "p_hi");
+  EXPECT_EQ(regs_[1].offset, 3U);
+  EXPECT_TRUE(regs_[1].snapshot);
+  EXPECT_EQ(regs_[0].description, "Pose. Bits 31:0.");
+  EXPECT_EQ(regs_[1].description, "Pose. Bits 39:32.");
+  const auto& lo = regs_[0].fields.at(0);
+  const auto& hi = regs_[1].fields.at(0);
+  EXPECT_EQ(lo.name, "bits");
+  EXPECT_EQ(lo.width(), 32);
+  EXPECT_FALSE(lo.is_signed);
+  EXPECT_EQ(lo.reset, 1U);
+  EXPECT_EQ(hi.name, "bits");
+  EXPECT_EQ(hi.width(), 8);
+  EXPECT_TRUE(hi.is_signed);
+  EXPECT_EQ(hi.reset, 0x80U);
+  EXPECT_EQ(hi.port_shift, 32);
+  EXPECT_EQ(hi.port_width, 40);
+}
+
+TEST(RegisterMapGenerator, RejectsBadWideRegisters) {
+  const std::string wide =
+      "{name: p, offset: 0, words: 2, access: rw, hw: r, fields: [{name: f, bits: [63, 0]}]}";
+  expect_rejected(description("  - name: a\n    base: 0\n    registers:\n      - " + wide +
+                              "\n      - {name: p_hi, offset: 4, access: rw, hw: r, fields: "
+                              "[{name: f, bits: [0, 0]}]}\n"),
+                  "duplicate register 'p_hi'");
+  expect_rejected(description("  - name: a\n    base: 0\n    registers:\n      - " + wide +
+                              "\n      - {name: q, offset: 1, access: rw, hw: r, fields: "
+                              "[{name: f, bits: [0, 0]}]}\n"),
+                  "overlaps a.p_hi");
+  expect_rejected(
+      one("{name: p, offset: 0, words: 3, access: rw, hw: r, fields: [{name: f, bits: [0, 0]}]}"),
+      "words must be 1 or 2");
+  expect_rejected(
+      one("{name: p, offset: 0, words: 2, access: w1c, hw: set, fields: [{name: f, bits: [40, "
+          "0]}]}"),
+      "must be ro or rw");
+  expect_rejected(
+      one("{name: p, offset: 0, words: 2, access: rw, hw: r, fields: [{name: f, bits: [64, 0]}]}"),
+      "wider than the 64-bit register");
+  expect_rejected(
+      one("{name: p, offset: 0, words: 2, access: rw, hw: r, fields: [{name: f, bits: [31, 0]}]}"),
+      "no field has a bit in bits 63:32");
+  expect_rejected(one("{name: p, offset: 0, words: 2, access: rw, hw: r, fields: [{name: f, "
+                      "bits: [33, 30], enum: {a: 1}}]}"),
+                  "enum field cannot span two words");
+}
+
+TEST(RegisterMapGenerator, RejectsBadClockAndSpiFacts) {
+  expect_rejected(description(kGoodBlock, kSpi, "30000000"), "whole number of ns");
+  expect_rejected(description(kGoodBlock, kSpi, "0"), "whole number of ns");
+  expect_rejected(description(kGoodBlock, ""), "missing 'spi'");
+  const auto spi = [](const std::string& body) { return "spi: {" + body + "}\n"; };
+  const std::string crc = "crc: {polynomial: 0x1D, init: 0xFF, xor_out: 0xFF}";
+  expect_rejected(description(kGoodBlock, spi("max_bursts: 32, min_level_clocks: 4, " + crc)),
+                  "spi: unknown key 'max_bursts'");
+  expect_rejected(description(kGoodBlock, spi("max_burst: 33, min_level_clocks: 4, " + crc)),
+                  "max_burst must be 1..32");
+  expect_rejected(description(kGoodBlock, spi("max_burst: 0, min_level_clocks: 4, " + crc)),
+                  "max_burst must be 1..32");
+  expect_rejected(description(kGoodBlock, spi("max_burst: 8, min_level_clocks: 0, " + crc)),
+                  "min_level_clocks must be");
+  expect_rejected(
+      description(kGoodBlock, spi("max_burst: 8, min_level_clocks: 4, crc: {polynomial: 0x107, "
+                                  "init: 0, xor_out: 0}")),
+      "polynomial must fit 8 bits");
+  expect_rejected(
+      description(kGoodBlock, spi("max_burst: 8, min_level_clocks: 4, crc: {polynomial: 7, "
+                                  "init: 0, xor_out: 0, reflect: true}")),
+      "spi.crc: unknown key 'reflect'");
+  expect_rejected(description(kGoodBlock) + "extra: 1\n", "top level: unknown key 'extra'");
 }
 
 }  // namespace

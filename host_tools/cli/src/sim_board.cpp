@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "odoloc/board/sim_target.hpp"
 #include "odoloc/cli/errors.hpp"
 #include "odoloc/cli/target.hpp"
-#include "odoloc/sim/sim_target.hpp"
 #include "odoloc/sw/spi_frame.hpp"
 
 namespace odoloc::cli {
@@ -27,7 +27,7 @@ class SimBoard final : public Target {
   [[nodiscard]] std::chrono::nanoseconds elapsed() const override { return sim_.elapsed(); }
 
  private:
-  sim::SimTarget sim_;
+  board::SimTarget sim_;
   sw::SpiRegisterBus bus_;
 };
 
@@ -35,7 +35,7 @@ class SimBoard final : public Target {
 
 std::unique_ptr<Target> open_sim_target(std::string_view argument, const TargetOptions& options) {
   const std::string scenario = argument.empty() ? "none" : std::string{argument};
-  const std::vector<std::string> known = sim::SimTarget::scenarios();
+  const std::vector<std::string> known = board::SimTarget::scenarios();
   if (std::ranges::find(known, scenario) == known.end())
     throw UsageError(fmt::format("unknown scenario '{}' for target sim; expected one of {}",
                                  scenario, fmt::join(known, ", ")));

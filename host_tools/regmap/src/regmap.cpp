@@ -6,6 +6,7 @@
 #include <fstream>
 #include <initializer_list>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <string_view>
@@ -84,12 +85,43 @@ Access access_of(const YAML::Node& node, const std::string& where) {
   fail(node, where + ": unknown access '" + name + "'");
 }
 
-Field parse_field(const YAML::Node& n, Access default_access, int data_bits,
+Hw hw_of(const YAML::Node& node, const std::string& where) {
+  const auto name = scalar<std::string>(node, where);
+  for (const Hw h : {Hw::kR, Hw::kW, Hw::kSet, Hw::kCount, Hw::kNone}) {
+    if (name == to_string(h))
+      return h;
+  }
+  fail(node, where + ": unknown hw '" + name + "' (r, w, set, count or none)");
+}
+
+// The hardware behaviours that make sense for each software access.
+bool legal(Access a, Hw h) {
+  switch (a) {
+    case Access::kRw:
+      return h == Hw::kR || h == Hw::kNone;
+    case Access::kRo:
+      return h == Hw::kW || h == Hw::kNone;
+    case Access::kW1c:
+      return h == Hw::kSet;
+    case Access::kRc:
+      return h == Hw::kCount;
+    case Access::kW1p:
+      return h == Hw::kR;
+  }
+  return false;
+}
+
+std::uint64_t ones(int width) {
+  return width >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << width) - 1;
+}
+
+// A field of a register `width` bits wide (64 for a `words: 2` register).
+Field parse_field(const YAML::Node& n, Access default_access, Hw default_hw, int width,
                   const std::string& where) {
   Field f;
   f.name = scalar<std::string>(required(n, "name", where), "name");
   const std::string at = where + "." + f.name;
-  check_keys(n, {"name", "bits", "access", "signed", "reset", "description", "enum"}, at);
+  check_keys(n, {"name", "bits", "access", "hw", "signed", "reset", "description", "enum"}, at);
   check_name(n, f.name, "field");
   const YAML::Node& bits = required(n, "bits", at);
   if (!bits.IsSequence() || bits.size() != 2)
@@ -98,16 +130,26 @@ Field parse_field(const YAML::Node& n, Access default_access, int data_bits,
   f.lsb = scalar<int>(bits[1], at + " lsb");
   if (f.lsb < 0 || f.msb < f.lsb)
     fail(bits, at + ": bits must be [msb, lsb] with msb >= lsb >= 0");
-  if (f.msb >= data_bits) {
-    fail(bits, at + ": field is wider than the " + std::to_string(data_bits) + "-bit register");
-  }
+  if (f.msb >= width)
+    fail(bits, at + ": field is wider than the " + std::to_string(width) + "-bit register");
   f.access = n["access"] ? access_of(n["access"], at) : default_access;
+  f.hw = n["hw"] ? hw_of(n["hw"], at) : default_hw;
+  if (!legal(f.access, f.hw)) {
+    fail(n, at + ": access " + std::string(to_string(f.access)) + " cannot have hw " +
+                to_string(f.hw) +
+                " (legal: rw: r or none; ro: w or none; w1c: set; rc: count; w1p: r)");
+  }
   f.is_signed = n["signed"] && scalar<bool>(n["signed"], at + " signed");
+  if (f.is_signed && f.width() < 2)
+    fail(n, at + ": a signed field needs at least 2 bits");
   f.description = text(n, "description");
-  const std::uint64_t limit = (std::uint64_t{1} << f.width()) - 1;
+  const std::uint64_t limit = ones(f.width());
   const auto reset = n["reset"] ? scalar<std::uint64_t>(n["reset"], at + " reset") : 0;
   if (reset > limit)
     fail(n["reset"], at + ": reset value does not fit the field");
+  f.port_width = f.width();
+  f.port_signed = f.is_signed;
+  f.port_reset = reset;
   f.reset = static_cast<std::uint32_t>(reset);
   if (const YAML::Node& e = n["enum"]) {
     std::set<std::string> names;
@@ -119,7 +161,7 @@ Field parse_field(const YAML::Node& n, Access default_access, int data_bits,
       check_unique(names, kv.first, name, "enum name", at);
       if (!values.insert(value).second)
         fail(kv.second, at + ": duplicate enum value");
-      if (value > limit)
+      if (value > limit || value > 0xFFFFFFFFU)
         fail(kv.second, at + ": enum value does not fit the field");
       f.enums.emplace_back(name, static_cast<std::uint32_t>(value));
     }
@@ -127,30 +169,96 @@ Field parse_field(const YAML::Node& n, Access default_access, int data_bits,
   return f;
 }
 
-Register parse_register(const YAML::Node& n, int data_bits, const std::string& block) {
+// The part of a wide field that lies in word `word` (data_bits bits each),
+// renumbered within that word; nullopt when the field has no bit there.
+std::optional<Field> slice(const Field& f, int word, int data_bits, const std::string& at) {
+  const int lo = word * data_bits, hi = lo + data_bits - 1;
+  if (f.msb < lo || f.lsb > hi)
+    return std::nullopt;
+  Field s = f;
+  s.msb = std::min(f.msb, hi) - lo;
+  s.lsb = std::max(f.lsb, lo) - lo;
+  s.port_shift = std::max(f.lsb, lo) - f.lsb;
+  s.is_signed = f.is_signed && f.msb <= hi;  // only the slice holding the sign bit
+  s.reset = static_cast<std::uint32_t>((f.port_reset >> s.port_shift) & ones(s.width()));
+  if (s.width() != f.width()) {
+    s.description = f.description + (f.description.empty() ? "" : " ") + "Bits " +
+                    std::to_string(s.port_shift + s.width() - 1) + ":" +
+                    std::to_string(s.port_shift) + ".";
+  }
+  if (!f.enums.empty() && s.width() != f.width())
+    throw RegmapError(at + "." + f.name + ": an enum field cannot span two words");
+  return s;
+}
+
+// One register, or the two word registers of a `words: 2` register.
+std::vector<Register> parse_register(const YAML::Node& n, int data_bits, const std::string& block) {
   Register r;
   r.name = scalar<std::string>(required(n, "name", block), "name");
   const std::string at = block + "." + r.name;
-  check_keys(n, {"name", "offset", "access", "snapshot", "description", "fields"}, at);
+  check_keys(n, {"name", "offset", "access", "hw", "words", "snapshot", "description", "fields"},
+             at);
   check_name(n, r.name, "register");
   r.offset = scalar<std::uint32_t>(required(n, "offset", at), at + " offset");
   r.access = access_of(required(n, "access", at), at);
+  r.hw = hw_of(required(n, "hw", at), at);
+  if (!legal(r.access, r.hw)) {
+    fail(n["hw"], at + ": access " + std::string(to_string(r.access)) + " cannot have hw " +
+                      to_string(r.hw) +
+                      " (legal: rw: r or none; ro: w or none; w1c: set; rc: count; w1p: r)");
+  }
+  const int words = n["words"] ? scalar<int>(n["words"], at + " words") : 1;
+  if (words != 1 && words != 2)
+    fail(n["words"], at + ": words must be 1 or 2");
+  if (words == 2 && r.access != Access::kRo && r.access != Access::kRw)
+    fail(n["words"], at + ": a words: 2 register must be ro or rw");
   r.snapshot = n["snapshot"] && scalar<bool>(n["snapshot"], at + " snapshot");
   r.description = text(n, "description");
   const YAML::Node& fields = required(n, "fields", at);
   if (!fields.IsSequence() || fields.size() == 0)
     fail(fields, at + ": needs at least one field");
   std::set<std::string> names;
-  std::uint32_t used = 0;
+  std::uint64_t used = 0;
   for (const auto& fn : fields) {
-    Field f = parse_field(fn, r.access, data_bits, at);
+    Field f = parse_field(fn, r.access, r.hw, words * data_bits, at);
     check_unique(names, fn, f.name, "field", at);
-    if ((used & f.mask()) != 0)
+    const std::uint64_t mask = ones(f.width()) << f.lsb;
+    if ((used & mask) != 0)
       fail(fn, at + "." + f.name + ": overlaps another field");
-    used |= f.mask();
+    used |= mask;
+    if (words == 2 && f.access != r.access)
+      fail(fn, at + "." + f.name + ": fields of a words: 2 register keep its access");
     r.fields.push_back(std::move(f));
   }
-  return r;
+  if (words == 1)
+    return {r};
+  std::vector<Register> out;
+  for (int w = 0; w < 2; ++w) {
+    const int lo = w * data_bits;
+    Register wr = r;
+    wr.name = r.name + (w == 0 ? "_lo" : "_hi");
+    wr.offset = r.offset + static_cast<std::uint32_t>(w);
+    wr.wide = r.name;
+    wr.wide_description = r.description;
+    wr.word = w;
+    wr.fields.clear();
+    int top = lo;
+    for (const Field& f : r.fields) {
+      if (auto s = slice(f, w, data_bits, at)) {
+        top = std::max(top, std::min(f.msb, lo + data_bits - 1));
+        wr.fields.push_back(std::move(*s));
+      }
+    }
+    if (wr.fields.empty()) {
+      fail(fields, at + ": words: 2 but no field has a bit in " +
+                       (w == 0 ? std::string("bits 31:0") : std::string("bits 63:32")));
+    }
+    wr.description = r.description + (r.description.empty() ? "" : " ") + "Bits " +
+                     std::to_string(w == 0 ? lo + data_bits - 1 : top) + ":" + std::to_string(lo) +
+                     ".";
+    out.push_back(std::move(wr));
+  }
+  return out;
 }
 
 Block parse_block(const YAML::Node& n, int data_bits) {
@@ -179,12 +287,13 @@ Block parse_block(const YAML::Node& n, int data_bits) {
   }
   std::set<std::string> names;
   for (const auto& rn : required(n, "registers", b.name)) {
-    Register r = parse_register(rn, data_bits, b.name);
-    check_unique(names, rn, r.name, "register", b.name);
-    if (!b.instances.empty() && r.offset >= b.stride) {
-      fail(rn, b.name + "." + r.name + ": offset is outside the instance stride");
+    for (Register& r : parse_register(rn, data_bits, b.name)) {
+      check_unique(names, rn, r.name, "register", b.name);
+      if (!b.instances.empty() && r.offset >= b.stride) {
+        fail(rn, b.name + "." + r.name + ": offset is outside the instance stride");
+      }
+      b.registers.push_back(std::move(r));
     }
-    b.registers.push_back(std::move(r));
   }
   return b;
 }
@@ -230,6 +339,22 @@ const char* to_string(Access a) {
   return "?";
 }
 
+const char* to_string(Hw h) {
+  switch (h) {
+    case Hw::kR:
+      return "r";
+    case Hw::kW:
+      return "w";
+    case Hw::kSet:
+      return "set";
+    case Hw::kCount:
+      return "count";
+    case Hw::kNone:
+      return "none";
+  }
+  return "?";
+}
+
 std::uint32_t Field::mask() const {
   const std::uint64_t ones = (std::uint64_t{1} << width()) - 1;
   return static_cast<std::uint32_t>(ones << lsb);
@@ -251,6 +376,52 @@ std::uint32_t Register::mask(Access a) const {
   return m;
 }
 
+std::uint32_t Register::mask(Hw h) const {
+  std::uint32_t m = 0;
+  for (const Field& f : fields) {
+    if (f.hw == h)
+      m |= f.mask();
+  }
+  return m;
+}
+
+std::uint32_t Register::const_mask() const {
+  std::uint32_t m = 0;
+  for (const Field& f : fields) {
+    if (f.access == Access::kRo && f.hw == Hw::kNone)
+      m |= f.mask();
+  }
+  return m;
+}
+
+namespace {
+
+Spi parse_spi(const YAML::Node& n) {
+  check_keys(n, {"max_burst", "min_level_clocks", "crc"}, "spi");
+  Spi s;
+  s.max_burst = scalar<int>(required(n, "max_burst", "spi"), "spi max_burst");
+  if (s.max_burst < 1 || s.max_burst > 32)
+    fail(n["max_burst"], "spi: max_burst must be 1..32 (the frame's 5-bit burst field)");
+  s.min_level_clocks = scalar<int>(required(n, "min_level_clocks", "spi"), "spi min_level_clocks");
+  if (s.min_level_clocks < 1 || s.min_level_clocks > 1000)
+    fail(n["min_level_clocks"], "spi: min_level_clocks must be 1..1000");
+  const YAML::Node& crc = required(n, "crc", "spi");
+  check_keys(crc, {"polynomial", "init", "xor_out"}, "spi.crc");
+  const auto byte = [&](const char* key) {
+    const auto v =
+        scalar<std::uint32_t>(required(crc, key, "spi.crc"), std::string("spi.crc ") + key);
+    if (v > 0xFF)
+      fail(crc[key], std::string("spi.crc: ") + key + " must fit 8 bits (CRC-8)");
+    return static_cast<std::uint8_t>(v);
+  };
+  s.crc_polynomial = byte("polynomial");
+  s.crc_init = byte("init");
+  s.crc_xor_out = byte("xor_out");
+  return s;
+}
+
+}  // namespace
+
 RegisterMap parse(const std::string& yaml_text) {
   YAML::Node root;
   try {
@@ -263,7 +434,7 @@ RegisterMap parse(const std::string& yaml_text) {
   RegisterMap map;
   const YAML::Node& m = required(root, "map", "top level");
   map.name = scalar<std::string>(required(m, "name", "map"), "map name");
-  check_keys(m, {"name", "description", "address_bits", "data_bits"}, "map");
+  check_keys(m, {"name", "description", "address_bits", "data_bits", "clock_hz"}, "map");
   check_name(m, map.name, "map");
   map.description = text(m, "description");
   map.address_bits = scalar<int>(required(m, "address_bits", "map"), "address_bits");
@@ -272,6 +443,16 @@ RegisterMap parse(const std::string& yaml_text) {
     fail(m, "address_bits must be 1..16");
   if (map.data_bits < 8 || map.data_bits > 32)
     fail(m, "data_bits must be 8..32");
+  const YAML::Node& clock = required(m, "clock_hz", "map");
+  map.clock_hz = scalar<std::uint32_t>(clock, "clock_hz");
+  if (map.clock_hz == 0 || 1000000000U % map.clock_hz != 0)
+    fail(clock, "clock_hz: the clock period must be a whole number of ns");
+  for (const auto& kv : root) {
+    const auto key = kv.first.as<std::string>();
+    if (key != "map" && key != "spi" && key != "blocks")
+      fail(kv.first, "top level: unknown key '" + key + "'");
+  }
+  map.spi = parse_spi(required(root, "spi", "top level"));
   std::set<std::string> names;
   for (const auto& bn : required(root, "blocks", "top level")) {
     Block b = parse_block(bn, map.data_bits);

@@ -25,4 +25,19 @@ inline std::string upper(std::string s) {
   return s;
 }
 
+// lower_snake_case -> CamelCase.
+inline std::string camel(const std::string& snake) {
+  std::string out;
+  bool up = true;
+  for (const char c : snake) {
+    if (c == '_') {
+      up = true;
+      continue;
+    }
+    out += up ? static_cast<char>(std::toupper(static_cast<unsigned char>(c))) : c;
+    up = false;
+  }
+  return out;
+}
+
 }  // namespace odoloc::regmap

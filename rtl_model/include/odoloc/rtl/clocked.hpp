@@ -1,28 +1,33 @@
 // The clocked-model conventions every fabric block follows.
 //
 // A leaf block is one class with
-//   - its registers as a `Regs` struct (current state), readable via regs(),
+//   - its registers as a `Regs` struct with one field list (ODOLOC_FIELDS,
+//     fields.hpp), readable via regs(); trace() is derived from that list,
 //   - `Next eval(const In&) const`: combinational logic only. It reads the
-//     current registers and the input wires `In`, returns the next state and
-//     never writes a register,
+//     current registers and the input wires `In` (values, never references),
+//     returns the next state and never writes a register,
 //   - `bool idle(const In&) const`: a cheap, sufficient condition for
 //     eval(in) == regs(). Composites skip idle blocks (activity gating, as in
-//     ESSENT); test_eppm_gating proves gated and ungated runs identical,
+//     ESSENT); the gating tests prove gated and ungated runs identical,
 //   - `void commit(const Next&)`: the clock edge, the only place registers change,
-//   - synchronous reset as an input wire, plus reset_now() for testbench set-up,
-//   - `template <class V> void trace(V&) const`: names its registers for
-//     waveform dumps (see TraceVisitor).
-// A composite first computes every wire that crosses its children from the
-// current registers, then clocks each child with clock_block(). Because no
-// child's eval reads another child's registers directly, commit order does not
-// matter and the composite's step is exactly one clock edge. No heap, no
+//   - synchronous reset as an input wire, plus reset_now() for testbench set-up.
+// A composite is two-phase by construction: step() first computes, from the
+// current registers only, every wire that crosses its children (each child's
+// In, filled by value), and only then clocks the children. Nothing is read
+// after the first child is clocked, so the order the children are clocked in
+// cannot matter: step() takes that order as a parameter, and the commit-order
+// tests clock every composite's children in a random permutation every clock
+// against declaration order. A composite's idle(in) is the conjunction of its
+// children's, so gating works the same way at every level. No heap, no
 // virtual calls: blocks compose by value.
 #pragma once
 
 #include <concepts>
 #include <string_view>
 
+#include "odoloc/regs.hpp"
 #include "odoloc/rtl/bits.hpp"
+#include "odoloc/rtl/fields.hpp"
 
 namespace odoloc::rtl {
 
@@ -50,14 +55,19 @@ concept ClockedBlock = requires(B b, const B cb, const typename B::In& in,
 };
 
 // The register half every leaf block shares: its Regs, the clock edge, the
-// testbench reset and read access. The block adds In, eval, idle and trace.
-template <class R>
+// testbench reset, read access and the waveform of every register. The block
+// adds In, eval and idle.
+template <HasFields R>
 class Registers {
  public:
   using Regs = R;
   void commit(const Regs& next) { r_ = next; }
   void reset_now() { r_ = Regs{}; }
   [[nodiscard]] const Regs& regs() const { return r_; }
+  template <class V>
+  void trace(V& v) const {
+    trace_fields(v, r_);
+  }
 
  protected:
   Regs r_;
@@ -81,8 +91,18 @@ inline void clock_block(B& block, const typename B::In& in) {
   block.commit(block.eval(in));
 }
 
-// Fabric clock: every block of the odometry fabric runs on it.
-inline constexpr double kFabricClockHz = 50.0e6;
-inline constexpr unsigned kFabricClockPeriodNs = 20;
+// The order a composite clocks its children in, given one callable per
+// child. Production code uses declaration order; the commit-order tests pass
+// an order that permutes the calls.
+struct DeclarationOrder {
+  template <class... Clock>
+  void operator()(Clock&&... clock) const {
+    (clock(), ...);
+  }
+};
+
+// Fabric clock: every block of the fabric runs on it (regmap/odoloc.yaml).
+inline constexpr double kFabricClockHz = regs::kFabricClockHz;
+inline constexpr unsigned kFabricClockPeriodNs = regs::kFabricClockPeriodNs;
 
 }  // namespace odoloc::rtl

@@ -16,6 +16,25 @@
 
 namespace odoloc::rtl {
 
+namespace cordic {
+// Field lists of the shared core's structs (fields.hpp), kept out of the
+// HLS-shared header.
+template <class F>
+constexpr void for_each_field(const State& s, F&& f) {
+  [[maybe_unused]] const auto& [s_x, s_y, s_z, s_quadrant] = s;  // every member, in order
+  f("x", s.x);
+  f("y", s.y);
+  f("z", s.z);
+  f("quadrant", s.quadrant);
+}
+template <class F>
+constexpr void for_each_field(const SinCos& s, F&& f) {
+  [[maybe_unused]] const auto& [s_sin, s_cos] = s;
+  f("sin", s.sin);
+  f("cos", s.cos);
+}
+}  // namespace cordic
+
 struct SequentialCordicRegs {
   cordic::State state;
   UInt<4> iteration;  // index of the next micro-rotation
@@ -24,6 +43,7 @@ struct SequentialCordicRegs {
   UInt<1> load_ignored;  // sticky: LOAD arrived while busy
   cordic::SinCos result;
   bool operator==(const SequentialCordicRegs&) const = default;
+  ODOLOC_FIELDS(state, iteration, busy, ready, load_ignored, result)
 };
 
 class SequentialCordic : public Registers<SequentialCordicRegs> {
@@ -62,20 +82,6 @@ class SequentialCordic : public Registers<SequentialCordicRegs> {
   }
   [[nodiscard]] bool idle(const In& in) const {
     return (r_.busy | in.load | in.clear_flags | in.reset).is_zero();
-  }
-
-  template <class V>
-  void trace(V& v) const {
-    v.signal("x", r_.state.x);
-    v.signal("y", r_.state.y);
-    v.signal("z", r_.state.z);
-    v.signal("quadrant", r_.state.quadrant);
-    v.signal("iteration", r_.iteration);
-    v.signal("busy", r_.busy);
-    v.signal("result_ready", r_.ready);
-    v.signal("load_ignored", r_.load_ignored);
-    v.signal("sin", r_.result.sin);
-    v.signal("cos", r_.result.cos);
   }
 };
 

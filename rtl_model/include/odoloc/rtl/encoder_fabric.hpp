@@ -3,42 +3,51 @@
 
 #include <array>
 #include <cstddef>
+#include <utility>
 
 #include "odoloc/rtl/eppm.hpp"
 
 namespace odoloc::rtl {
 
-enum class Wheel : std::uint8_t { kLeftRear = 0, kRightRear = 1, kFrontDrive = 2, kSteering = 3 };
-inline constexpr std::size_t kWheelCount = 4;
-inline constexpr std::array<const char*, kWheelCount> kWheelNames = {"left_rear", "right_rear",
-                                                                     "front_drive", "steering"};
+// The EPPM instances, in register-map order (regs::eppm::kInstanceNames).
+enum class Encoder : std::uint8_t { kLeftRear = 0, kRightRear = 1, kFrontDrive = 2, kSteering = 3 };
+inline constexpr std::size_t kEncoderCount = regs::eppm::kInstances;
+static_assert(kEncoderCount == 4 && regs::eppm::kInstanceNames[3] == "steering");
 
 class EncoderFabric {
  public:
-  using Inputs = std::array<EppmInputs, kWheelCount>;
-  using Configs = std::array<EppmConfig, kWheelCount>;
+  using In = std::array<EppmInputs, kEncoderCount>;
+  using Config = std::array<EppmConfig, kEncoderCount>;
 
-  // The EPPMs share no signal, so clocking them one after another is one edge.
-  template <Gating G = Gating::kOn>
-  [[gnu::flatten]] void step(const Inputs& in, const Configs& cfg) {
-    for (std::size_t w = 0; w < kWheelCount; ++w)
-      eppm_[w].step<G>(in[w], cfg[w]);
+  // The EPPMs share no signal: each one's wires are its own inputs.
+  template <Gating G = Gating::kOn, class Order = DeclarationOrder>
+  [[gnu::flatten]] void step(const In& in, const Config& cfg, const Order& order = {}) {
+    [&]<std::size_t... W>(std::index_sequence<W...>) {
+      order([&] { eppm_[W].template step<G>(in[W], cfg[W], order); }...);
+    }
+    (std::make_index_sequence<kEncoderCount>{});
+  }
+  [[nodiscard]] bool idle(const In& in, const Config& cfg) const {
+    for (std::size_t w = 0; w < kEncoderCount; ++w)
+      if (!eppm_[w].idle(in[w], cfg[w]))
+        return false;
+    return true;
   }
   void reset_now() {
     for (auto& e : eppm_)
       e.reset_now();
   }
 
-  [[nodiscard]] const Eppm& eppm(Wheel w) const { return eppm_[static_cast<std::size_t>(w)]; }
+  [[nodiscard]] const Eppm& eppm(Encoder w) const { return eppm_[static_cast<std::size_t>(w)]; }
 
   template <class V>
   void trace(V& v) const {
-    for (std::size_t w = 0; w < kWheelCount; ++w)
-      trace_scope(v, kWheelNames[w], eppm_[w]);
+    for (std::size_t w = 0; w < kEncoderCount; ++w)
+      trace_scope(v, regs::eppm::kInstanceNames[w], eppm_[w]);
   }
 
  private:
-  std::array<Eppm, kWheelCount> eppm_;
+  std::array<Eppm, kEncoderCount> eppm_;
 };
 
 }  // namespace odoloc::rtl

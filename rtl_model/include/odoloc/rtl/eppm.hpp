@@ -13,44 +13,34 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "odoloc/ports.hpp"
 #include "odoloc/rtl/bits.hpp"
 #include "odoloc/rtl/clocked.hpp"
 
 namespace odoloc::rtl {
 
-// ---- configuration (block-level registers written by the host) --------------
-enum class DecodeMode : std::uint8_t { kX4 = 0, kX2 = 1, kX1 = 2 };  // 3 behaves as x4
-enum class SpeedModeSelect : std::uint8_t { kAuto = 0, kPulse = 1, kPeriod = 2 };  // 3: auto
-enum class SpeedMode : std::uint8_t { kPeriod = 0, kPulse = 1 };
+// ---- ports (generated from regmap/odoloc.yaml: odoloc/ports.hpp) -------------
+// Configuration (the eppm.* rw registers, resets from the YAML), the sticky
+// flags' clear strobes (eppm.*.status, w1c) and the status the register file
+// reads. The enums are the register map's.
+using DecodeMode = regs::eppm::cfg::DecodeMode;            // 3 behaves as x4
+using SpeedModeSelect = regs::eppm::cfg::SpeedModeSelect;  // 3: auto
+using SpeedMode = regs::eppm::speed::Mode;
+using EppmConfig = ports::eppm::Config;
+using EppmFlagClear = ports::eppm::Pulses;  // status.<flag>: clear it this clock; an event wins
+using EppmStatus = ports::eppm::Status;
 
-struct EppmConfig {
-  UInt<8> filter_clocks{3};  // a level must be stable this many clocks; 0 and 1: filter off
-  UInt<2> decode_mode{static_cast<std::uint8_t>(DecodeMode::kX4)};
-  UInt<2> speed_mode_select{static_cast<std::uint8_t>(SpeedModeSelect::kAuto)};
-  UInt<23> window_clocks{50'000};  // pulse-mode window T in fabric clocks; 0 behaves as 1
-  UInt<16> prescale{49};           // one reference tick every prescale+1 clocks (1 MHz)
-  UInt<23> to_period_below{25};    // auto: pulse -> period when |edges per window| < this
-  UInt<23> to_pulse_at{40};        // auto: period -> pulse when |edges per window| >= this
-  UInt<23> stall_ticks{50'000};    // stalled after this many ticks without an edge; 0: never
-};
-
-// One clear strobe per sticky flag, so a write-1-to-clear status register
-// clears exactly the flags written; an event in the clearing clock wins.
-struct EppmFlagClear {
-  UInt<1> phase_error;  // and the error counter
-  UInt<1> carry, borrow, period_overflow;
-  static constexpr EppmFlagClear all(UInt<1> clear) { return {clear, clear, clear, clear}; }
-  [[nodiscard]] constexpr UInt<1> any() const {
-    return phase_error | carry | borrow | period_overflow;
-  }
-  bool operator==(const EppmFlagClear&) const = default;
-};
+template <class E>
+constexpr auto encoding(E e) {
+  return static_cast<std::uint32_t>(e);
+}
 
 struct EppmInputs {
   UInt<1> a, b;         // encoder pins, asynchronous to the fabric clock
   UInt<1> latch_clear;  // read increment: latch the count and restart it from 0
   EppmFlagClear clear;  // sticky flags to clear
   UInt<1> reset;        // synchronous reset of every register
+  ODOLOC_FIELDS(a, b, latch_clear, clear, reset)
 };
 
 // ---- input conditioning -------------------------------------------------------
@@ -60,6 +50,7 @@ struct InputConditionerRegs {
   UInt<2> sync1, sync2, filtered;
   UInt<8> stable_a, stable_b;  // consecutive samples the level has differed from `filtered`
   bool operator==(const InputConditionerRegs&) const = default;
+  ODOLOC_FIELDS(sync1, sync2, filtered, stable_a, stable_b)
 };
 
 class InputConditioner : public Registers<InputConditionerRegs> {
@@ -82,15 +73,6 @@ class InputConditioner : public Registers<InputConditionerRegs> {
   [[nodiscard]] bool idle(const In& in) const {
     return in.pins == r_.sync1 && r_.sync1 == r_.sync2 && r_.sync2 == r_.filtered &&
            (r_.stable_a | r_.stable_b | in.reset).is_zero();
-  }
-
-  template <class V>
-  void trace(V& v) const {
-    v.signal("sync1", r_.sync1);
-    v.signal("sync2", r_.sync2);
-    v.signal("filtered", r_.filtered);
-    v.signal("stable_a", r_.stable_a);
-    v.signal("stable_b", r_.stable_b);
   }
 
  private:
@@ -143,6 +125,7 @@ struct QuadratureDecoderRegs {
   UInt<1> phase_error;   // sticky: A and B changed in the same sample
   UInt<16> error_count;  // illegal transitions, saturating
   bool operator==(const QuadratureDecoderRegs&) const = default;
+  ODOLOC_FIELDS(prev, direction, phase_error, error_count)
 };
 
 class QuadratureDecoder : public Registers<QuadratureDecoderRegs> {
@@ -181,14 +164,6 @@ class QuadratureDecoder : public Registers<QuadratureDecoderRegs> {
     return in.filtered == r_.prev && (in.clear_phase_error | in.reset).is_zero();
   }
 
-  template <class V>
-  void trace(V& v) const {
-    v.signal("prev", r_.prev);
-    v.signal("direction", r_.direction);
-    v.signal("phase_error", r_.phase_error);
-    v.signal("error_count", r_.error_count);
-  }
-
  private:
   [[nodiscard]] const QuadTransition& transition(UInt<2> curr) const {
     return kTable[static_cast<std::size_t>(cat(r_.prev, curr).value())];
@@ -203,6 +178,7 @@ struct PositionCounterRegs {
   UInt<1> carry;          // sticky: counted up past +2^19-1
   UInt<1> borrow;         // sticky: counted down past -2^19
   bool operator==(const PositionCounterRegs&) const = default;
+  ODOLOC_FIELDS(count, latched, carry, borrow)
 };
 
 class PositionCounter : public Registers<PositionCounterRegs> {
@@ -240,14 +216,6 @@ class PositionCounter : public Registers<PositionCounterRegs> {
     return in.step.is_zero() &&
            (in.latch_clear | in.clear_carry | in.clear_borrow | in.reset).is_zero();
   }
-
-  template <class V>
-  void trace(V& v) const {
-    v.signal("count", r_.count);
-    v.signal("latched", r_.latched);
-    v.signal("carry", r_.carry);
-    v.signal("borrow", r_.borrow);
-  }
 };
 
 // ---- speed measurement ------------------------------------------------------
@@ -257,6 +225,7 @@ struct SpeedTimebaseRegs {
   UInt<23> window_count;    // clocks elapsed in the current window
   UInt<16> prescale_count;  // clocks since the last reference tick
   bool operator==(const SpeedTimebaseRegs&) const = default;
+  ODOLOC_FIELDS(window_count, prescale_count)
 };
 
 class SpeedTimebase : public Registers<SpeedTimebaseRegs> {
@@ -280,12 +249,6 @@ class SpeedTimebase : public Registers<SpeedTimebaseRegs> {
             tick(in.prescale) ? UInt<16>{} : (r_.prescale_count + UInt<1>{1}).wrap<16>()};
   }
   [[nodiscard]] bool idle(const In&) const { return false; }  // counts every clock
-
-  template <class V>
-  void trace(V& v) const {
-    v.signal("window_count", r_.window_count);
-    v.signal("prescale_count", r_.prescale_count);
-  }
 };
 
 // Pulse (M) method: signed edges per window of T clocks. Owns the mode bit,
@@ -296,6 +259,7 @@ struct PulseMeterRegs {
   UInt<1> mode;     // SpeedMode
   UInt<1> sampled;  // strobe: `last` was updated at this edge
   bool operator==(const PulseMeterRegs&) const = default;
+  ODOLOC_FIELDS(acc, last, mode, sampled)
 };
 
 class PulseMeter : public Registers<PulseMeterRegs> {
@@ -322,21 +286,13 @@ class PulseMeter : public Registers<PulseMeterRegs> {
     return in.step.is_zero() && !in.window_end && (r_.sampled | in.reset).is_zero();
   }
 
-  template <class V>
-  void trace(V& v) const {
-    v.signal("acc", r_.acc);
-    v.signal("last", r_.last);
-    v.signal("mode", r_.mode);
-    v.signal("sampled", r_.sampled);
-  }
-
  private:
   // The mode changes only at window ends, so a reading never mixes modes
   // within a window. The automatic switch keeps the current mode inside the
   // hysteresis band [to_period_below, to_pulse_at).
   [[nodiscard]] UInt<1> next_mode(const In& in, SInt<24> window_edges) const {
-    constexpr UInt<1> kPulse{static_cast<std::uint8_t>(SpeedMode::kPulse)};
-    constexpr UInt<1> kPeriod{static_cast<std::uint8_t>(SpeedMode::kPeriod)};
+    constexpr UInt<1> kPulse{encoding(SpeedMode::kPulse)};
+    constexpr UInt<1> kPeriod{encoding(SpeedMode::kPeriod)};
     if (!in.window_end)
       return r_.mode;
     switch (static_cast<SpeedModeSelect>(in.select.value())) {
@@ -368,6 +324,7 @@ struct PeriodMeterRegs {
   UInt<1> overflow;   // sticky: `count` saturated
   UInt<1> sampled;    // strobe: `last` was updated at this edge
   bool operator==(const PeriodMeterRegs&) const = default;
+  ODOLOC_FIELDS(count, last, valid, armed, last_dir, overflow, sampled)
 };
 
 class PeriodMeter : public Registers<PeriodMeterRegs> {
@@ -413,58 +370,89 @@ class PeriodMeter : public Registers<PeriodMeterRegs> {
   [[nodiscard]] bool idle(const In& in) const {
     return in.step.is_zero() && !in.tick && (r_.sampled | in.clear_overflow | in.reset).is_zero();
   }
-
-  template <class V>
-  void trace(V& v) const {
-    v.signal("count", r_.count);
-    v.signal("last", r_.last);
-    v.signal("valid", r_.valid);
-    v.signal("armed", r_.armed);
-    v.signal("last_dir", r_.last_dir);
-    v.signal("overflow", r_.overflow);
-    v.signal("sampled", r_.sampled);
-  }
-};
-
-// The speed word the host reads: the mode bit selects which measurement it is.
-struct EppmSpeed {
-  SInt<24> value;   // pulse: edges per window; period: +/- ticks per edge; 0 when stalled
-  UInt<1> mode;     // SpeedMode: 1 pulse, 0 period
-  UInt<1> valid;    // 0: the period sample spans a reversal or starts a measurement
-  UInt<1> stalled;  // no edge for stall_ticks reference ticks
-  bool operator==(const EppmSpeed&) const = default;
 };
 
 // ---- the module ---------------------------------------------------------------
 class Eppm {
  public:
-  template <Gating G = Gating::kOn>
-  void step(const EppmInputs& in, const EppmConfig& cfg) {
-    // Wires between the children, all from the current registers.
-    const UInt<2> filtered = conditioner_.regs().filtered;
-    const bool window_end = timebase_.window_end(cfg.window_clocks);
-    const bool tick = timebase_.tick(cfg.prescale);
-    const SpeedTimebase::In timebase_in{cfg.window_clocks, cfg.prescale, in.reset};
+  using In = EppmInputs;
+  using Config = EppmConfig;
 
+  // The wires into every child, from the current registers only.
+  struct Wires {
+    InputConditioner::In conditioner;
+    QuadratureDecoder::In decoder;
+    PositionCounter::In counter;
+    SpeedTimebase::In timebase;
+    PulseMeter::In pulse;
+    PeriodMeter::In period;
+  };
+  [[nodiscard]] Wires wires(const In& in, const Config& cfg) const {
+    const UInt<2> filtered = conditioner_.regs().filtered;
+    const SInt<2> step = decoder_.step(filtered, cfg.cfg.decode_mode);
+    const bool window_end = timebase_.window_end(cfg.window.clocks);
+    return {
+        .conditioner = {.pins = cat(in.a, in.b),
+                        .filter_clocks = cfg.cfg.filter_clocks,
+                        .reset = in.reset},
+        .decoder = {.filtered = filtered,
+                    .clear_phase_error = in.clear.status.phase_error,
+                    .reset = in.reset},
+        .counter = {.step = step,
+                    .latch_clear = in.latch_clear,
+                    .clear_carry = in.clear.status.carry,
+                    .clear_borrow = in.clear.status.borrow,
+                    .reset = in.reset},
+        .timebase = {.window_clocks = cfg.window.clocks,
+                     .prescale = cfg.prescale.divider,
+                     .reset = in.reset},
+        .pulse = {.step = step,
+                  .window_end = window_end,
+                  .select = cfg.cfg.speed_mode_select,
+                  .to_period_below = cfg.to_period_below.edges,
+                  .to_pulse_at = cfg.to_pulse_at.edges,
+                  .reset = in.reset},
+        .period = {.step = step,
+                   .tick = timebase_.tick(cfg.prescale.divider),
+                   .stall_ticks = cfg.stall_ticks.ticks,
+                   .clear_overflow = in.clear.status.period_overflow,
+                   .reset = in.reset},
+    };
+  }
+
+  template <Gating G = Gating::kOn, class Order = DeclarationOrder>
+  void step(const In& in, const Config& cfg, const Order& order = {}) {
     // Fast path: a settled pipeline with unchanged pins and no control makes
     // no step, so only the timebase moves, plus the period meter on a tick.
     // Window ends take the full path: they set a strobe that unsettles.
-    if (G == Gating::kOn && settled_ && !window_end && cat(in.a, in.b) == filtered &&
-        (in.latch_clear | in.clear.any() | in.reset).is_zero()) {
-      timebase_.commit(timebase_.eval(timebase_in));
-      clock_block<G>(period_, {SInt<2>{}, tick, cfg.stall_ticks, UInt<1>{}, in.reset});
+    if (G == Gating::kOn && settled_ && cat(in.a, in.b) == conditioner_.regs().filtered &&
+        !timebase_.window_end(cfg.window.clocks) && (in.latch_clear | in.reset).is_zero() &&
+        !any_set(in.clear)) {
+      const SpeedTimebase::In timebase_in{
+          .window_clocks = cfg.window.clocks, .prescale = cfg.prescale.divider, .reset = in.reset};
+      const PeriodMeter::In period_in{.step = SInt<2>{},
+                                      .tick = timebase_.tick(cfg.prescale.divider),
+                                      .stall_ticks = cfg.stall_ticks.ticks,
+                                      .clear_overflow = UInt<1>{},
+                                      .reset = in.reset};
+      order([&] { timebase_.commit(timebase_.eval(timebase_in)); },
+            [&] { clock_block<G>(period_, period_in); });
       return;
     }
-    const SInt<2> step = decoder_.step(filtered, cfg.decode_mode);
+    const Wires w = wires(in, cfg);
+    order([&] { clock_block<G>(conditioner_, w.conditioner); },
+          [&] { clock_block<G>(decoder_, w.decoder); },
+          [&] { clock_block<G>(counter_, w.counter); },
+          [&] { clock_block<G>(timebase_, w.timebase); }, [&] { clock_block<G>(pulse_, w.pulse); },
+          [&] { clock_block<G>(period_, w.period); });
     ports_ = in;
-    clock_block<G>(conditioner_, {cat(in.a, in.b), cfg.filter_clocks, in.reset});
-    clock_block<G>(decoder_, {filtered, in.clear.phase_error, in.reset});
-    clock_block<G>(counter_, {step, in.latch_clear, in.clear.carry, in.clear.borrow, in.reset});
-    clock_block<G>(timebase_, timebase_in);
-    clock_block<G>(pulse_, {step, window_end, cfg.speed_mode_select, cfg.to_period_below,
-                            cfg.to_pulse_at, in.reset});
-    clock_block<G>(period_, {step, tick, cfg.stall_ticks, in.clear.period_overflow, in.reset});
     settled_ = settled();
+  }
+  [[nodiscard]] bool idle(const In& in, const Config& cfg) const {
+    const Wires w = wires(in, cfg);
+    return conditioner_.idle(w.conditioner) && decoder_.idle(w.decoder) &&
+           counter_.idle(w.counter) && timebase_.idle(w.timebase) && pulse_.idle(w.pulse) &&
+           period_.idle(w.period);
   }
   void reset_now() {
     ports_ = {};
@@ -477,21 +465,37 @@ class Eppm {
     period_.reset_now();
   }
 
-  [[nodiscard]] EppmSpeed speed(const EppmConfig& cfg) const {
+  // What the register file reads (eppm.* status registers). The speed word:
+  // the mode bit selects which measurement the value is; a stall reads 0.
+  [[nodiscard]] EppmStatus status(const Config& cfg) const {
     const auto& p = period_.regs();
-    EppmSpeed s;
-    s.mode = pulse_.regs().mode;
-    s.stalled = UInt<1>::truncate(period_.stalled(cfg.stall_ticks));
-    if (s.stalled) {
-      s.valid = UInt<1>{1};
-    } else if (s.mode.value() == static_cast<std::uint8_t>(SpeedMode::kPulse)) {
-      s.value = pulse_.regs().last;
-      s.valid = UInt<1>{1};
+    const auto& d = decoder_.regs();
+    const auto& c = counter_.regs();
+    EppmStatus s;
+    s.count.value = c.count;
+    s.latched.value = c.latched;
+    s.speed.mode = pulse_.regs().mode;
+    s.speed.stalled = UInt<1>::truncate(period_.stalled(cfg.stall_ticks.ticks));
+    if (s.speed.stalled) {
+      s.speed.valid = UInt<1>{1};
+    } else if (s.speed.mode.value() == encoding(SpeedMode::kPulse)) {
+      s.speed.value = pulse_.regs().last;
+      s.speed.valid = UInt<1>{1};
     } else if (p.valid) {
       const SInt<24> ticks = p.last.to_sint();
-      s.value = p.last_dir ? ticks : (-ticks).wrap<24>();  // |ticks| < 2^23: exact
-      s.valid = UInt<1>{1};
+      s.speed.value = p.last_dir ? ticks : (-ticks).wrap<24>();  // |ticks| < 2^23: exact
+      s.speed.valid = UInt<1>{1};
     }
+    s.pulse_last.edges = pulse_.regs().last;
+    s.period_last.ticks = p.last;
+    s.period_last.valid = p.valid;
+    s.period_last.forward = p.last_dir;
+    s.status.phase_error = d.phase_error;
+    s.status.carry = c.carry;
+    s.status.borrow = c.borrow;
+    s.status.period_overflow = p.overflow;
+    s.status.forward = d.direction;
+    s.error_count.count = d.error_count;
     return s;
   }
 
@@ -505,14 +509,7 @@ class Eppm {
 
   template <class V>
   void trace(V& v) const {
-    v.signal("a", ports_.a);
-    v.signal("b", ports_.b);
-    v.signal("latch_clear", ports_.latch_clear);
-    v.signal("clear_phase_error", ports_.clear.phase_error);
-    v.signal("clear_carry", ports_.clear.carry);
-    v.signal("clear_borrow", ports_.clear.borrow);
-    v.signal("clear_period_overflow", ports_.clear.period_overflow);
-    v.signal("reset", ports_.reset);
+    trace_fields(v, ports_);
     trace_scope(v, "conditioner", conditioner_);
     trace_scope(v, "decoder", decoder_);
     trace_scope(v, "counter", counter_);
@@ -528,10 +525,10 @@ class Eppm {
   [[nodiscard]] bool settled() const {
     const auto& c = conditioner_.regs();
     return c.sync1 == c.sync2 && c.sync2 == c.filtered && c.filtered == decoder_.regs().prev &&
-           (c.stable_a | c.stable_b).is_zero() &&
-           (pulse_.regs().sampled | period_.regs().sampled | ports_.latch_clear |
-            ports_.clear.any() | ports_.reset)
-               .is_zero();
+           (c.stable_a | c.stable_b | pulse_.regs().sampled | period_.regs().sampled |
+            ports_.latch_clear | ports_.reset)
+               .is_zero() &&
+           !any_set(ports_.clear);
   }
 
   EppmInputs ports_;      // the inputs of the last clock, for waveforms

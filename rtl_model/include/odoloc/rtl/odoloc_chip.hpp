@@ -11,49 +11,79 @@
 namespace odoloc::rtl {
 
 struct ChipPins {
-  std::array<UInt<2>, kWheelCount> encoders{};  // A/B per encoder, A in bit 1
+  std::array<UInt<2>, kEncoderCount> encoders{};  // A/B per encoder, A in bit 1
   UInt<1> sclk;
   UInt<1> cs_n{1};
   UInt<1> mosi;
   UInt<1> reset;
+  ODOLOC_FIELDS(encoders, sclk, cs_n, mosi, reset)
 };
 
 class OdolocChip {
  public:
+  using In = ChipPins;
   OdolocChip() { reset_now(); }
 
-  template <Gating G = Gating::kOn>
-  void step(const ChipPins& pins) {
-    // Wires from the current registers.
-    const SpiSlave::Regs& spi = spi_.regs();
+  // The wires into every child, from the current registers only.
+  struct Wires {
+    OdometryFabric::In fabric;
+    SpiSlave::In spi;
+    FabricRegisters::In registers;
+  };
+  [[nodiscard]] Wires wires(const In& pins) const {
+    const SpiRegisterPort port = spi_.port();
+    // The fabric's status is needed only by a snapshot or a read.
+    const ports::Status status =
+        (port.snapshot | port.read_strobe) ? fabric_.status(config_) : ports::Status{};
     const UInt<32> read_data =
-        spi.read_strobe ? registers_.read(spi.read_address, fabric_, config_) : UInt<32>{};
-    const FabricRegisters::In registers_in{spi, read_data, fabric_, config_, pins.reset};
-    const SpiSlave::In spi_in{pins.sclk,
-                              pins.cs_n,
-                              pins.mosi,
-                              registers_.crc_enable(),
-                              registers_.spi_mode3(),
-                              read_data,
-                              FabricRegisters::write_refused(spi),
-                              pins.reset};
-    fabric_in_.pins = pins.encoders;
-    fabric_in_.reset = pins.reset;
-    spi_pins_ = pins;
+        port.read_strobe ? registers_.read(port.read_address, status) : UInt<32>{};
+    const ports::Pulses& pulses = registers_.regs().pulses;
+    return {
+        .fabric = {.pins = pins.encoders,
+                   .eppm = pulses.eppm,
+                   .odometry = pulses.odometry,
+                   .reset = pins.reset},
+        .spi = {.sclk = pins.sclk,
+                .cs_n = pins.cs_n,
+                .mosi = pins.mosi,
+                .crc_enable = config_.top.ctrl.crc_enable,
+                .spi_mode3 = config_.top.ctrl.spi_mode3,
+                .read_data = read_data,
+                .write_refused = FabricRegisters::write_refused(port),
+                .reset = pins.reset},
+        .registers = {.spi = port, .read_data = read_data, .status = status, .reset = pins.reset},
+    };
+  }
 
-    if (G == Gating::kOn && registers_.idle(registers_in)) {  // no SPI traffic: the common case
-      fabric_.step<G>(fabric_in_, config_);
-      clock_block<G>(spi_, spi_in);
+  template <Gating G = Gating::kOn, class Order = DeclarationOrder>
+  void step(const In& pins, const Order& order = {}) {
+    spi_pins_ = pins;
+    const SpiSlave::In spi_in{.sclk = pins.sclk,
+                              .cs_n = pins.cs_n,
+                              .mosi = pins.mosi,
+                              .crc_enable = config_.top.ctrl.crc_enable,
+                              .spi_mode3 = config_.top.ctrl.spi_mode3,
+                              .read_data = UInt<32>{},
+                              .write_refused = UInt<1>{},
+                              .reset = pins.reset};
+    // No SPI strobe and no pulse pending (the common case): the register
+    // file is idle, the fabric's strobes are all 0 and the slave reads nothing.
+    if (G == Gating::kOn && registers_.quiet(spi_.port(), pins.reset)) {
+      idle_fabric_in_.pins = pins.encoders;
+      order([&] { fabric_.step<G>(idle_fabric_in_, config_, order); },
+            [&] { clock_block<G>(spi_, spi_in); });
       return;
     }
-    const bool writes = (spi.commit & spi.commit_write) == UInt<1>{1};
-    const FabricRegisters::Regs registers_next = registers_.eval(registers_in);
-    fabric_.step<G>(fabric_in_, config_);
-    clock_block<G>(spi_, spi_in);
-    registers_.commit(registers_next);
-    registers_.drive(fabric_in_);
+    const Wires w = wires(pins);
+    const bool writes = (w.registers.spi.commit & w.registers.spi.commit_write) == UInt<1>{1};
+    order([&] { fabric_.step<G>(w.fabric, config_, order); }, [&] { clock_block<G>(spi_, w.spi); },
+          [&] { clock_block<G>(registers_, w.registers); });
     if (writes || pins.reset)  // the configuration ports decode the stored words
       config_ = registers_.config();
+  }
+  [[nodiscard]] bool idle(const In& pins) const {
+    const Wires w = wires(pins);
+    return fabric_.idle(w.fabric, config_) && spi_.idle(w.spi) && registers_.idle(w.registers);
   }
 
   void reset_now() {
@@ -61,20 +91,18 @@ class OdolocChip {
     spi_.reset_now();
     registers_.reset_now();
     config_ = registers_.config();
-    registers_.drive(fabric_in_);
   }
 
   [[nodiscard]] UInt<1> miso() const { return spi_.regs().miso; }
   [[nodiscard]] const OdometryFabric& fabric() const { return fabric_; }
   [[nodiscard]] const SpiSlave& spi() const { return spi_; }
   [[nodiscard]] const FabricRegisters& registers() const { return registers_; }
-  [[nodiscard]] const OdometryFabricConfig& config() const { return config_; }
+  // The configuration ports: registers().config(), kept decoded.
+  [[nodiscard]] const ports::Config& config() const { return config_; }
 
   template <class V>
   void trace(V& v) const {
-    v.signal("sclk", spi_pins_.sclk);
-    v.signal("cs_n", spi_pins_.cs_n);
-    v.signal("mosi", spi_pins_.mosi);
+    trace_fields(v, spi_pins_);
     v.signal("miso", miso());
     trace_scope(v, "spi", spi_);
     trace_scope(v, "registers", registers_);
@@ -85,12 +113,12 @@ class OdolocChip {
   OdometryFabric fabric_;
   SpiSlave spi_;
   FabricRegisters registers_;
-  // registers_.config() and the fabric inputs registers_ drives, refreshed
-  // whenever registers_ changes: pure functions of its registers, kept
-  // decoded for simulation speed.
-  OdometryFabricConfig config_;
-  OdometryFabric::Inputs fabric_in_;
-  ChipPins spi_pins_;  // the pins of the last clock, for waveforms
+  // registers_.config(), refreshed whenever a write or reset changes the
+  // stored words: a pure function of registers_' registers, kept decoded for
+  // simulation speed.
+  ports::Config config_;
+  OdometryFabric::In idle_fabric_in_;  // the fabric's inputs when no strobe is pending
+  ChipPins spi_pins_;                  // the pins of the last clock, for waveforms
 };
 
 }  // namespace odoloc::rtl

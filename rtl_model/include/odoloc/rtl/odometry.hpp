@@ -15,32 +15,22 @@
 
 #include <cstdint>
 
+#include "odoloc/ports.hpp"
 #include "odoloc/rtl/bits.hpp"
 #include "odoloc/rtl/clocked.hpp"
 #include "odoloc/rtl/cordic_core.hpp"
 
 namespace odoloc::rtl {
 
-enum class MinSelectPolicy : std::uint8_t {
-  kPerComponent = 0,  // the paper: the smaller |ds| and the smaller |dtheta|, independently
-  kWholeSet = 1,      // both increments of the source that travelled less
-  kRearOnly = 2,
-  kFrontOnly = 3,
-};
-
-struct OdometryConfig {
-  UInt<16> update_clocks{5'000};  // control period in fabric clocks (100 us); 0 stops updates
-  UInt<32> rear_ds_scale;         // metres per (nL + nR) count: kappa_rear / 2, 2^-40 m
-  UInt<32> rear_dtheta_scale;     // turns per (nR - nL) count: kappa_rear / (2 pi D), 2^-40 turn
-  UInt<32> front_ds_scale;        // metres per nF count: kappa_front, 2^-40 m
-  UInt<32> front_dtheta_scale;    // turns per nF count at sin(phi) = 1: kappa_front / (2 pi L)
-  UInt<32> steer_scale;           // steering turns per steering count, 2^-40 turn
-  UInt<32> steer_limit{477'218'588};  // |phi| limit, 2^-32 turn (40 degrees); at most 1/4 turn
-  UInt<2> policy{static_cast<std::uint8_t>(MinSelectPolicy::kPerComponent)};
-  UInt<4> select_shift;              // min-select memory: 2^shift updates; 0: the paper's
-  UInt<32> select_ds_threshold;      // front wins ds when the rear leads by more, 2^-32 m
-  UInt<32> select_dtheta_threshold;  // front wins dtheta likewise, 2^-40 turn
-};
+// Configuration, clear strobes and commands, and status: the odometry.*
+// registers (odoloc/ports.hpp, generated from regmap/odoloc.yaml).
+using OdometryConfig = ports::odometry::Config;
+using OdometryPulses = ports::odometry::Pulses;
+using OdometryStatus = ports::odometry::Status;
+// per_component (the paper: the smaller |ds| and the smaller |dtheta|,
+// independently), whole_set (both increments of the source that travelled
+// less), rear_only, front_only.
+using MinSelectPolicy = regs::odometry::cfg::Policy;
 
 using Distance = SInt<48>;  // 2^-32 m
 using Heading = SInt<56>;   // 2^-40 turn
@@ -57,6 +47,7 @@ struct RearOdometryUnitRegs {
   Distance ds;
   Heading dtheta;
   bool operator==(const RearOdometryUnitRegs&) const = default;
+  ODOLOC_FIELDS(ds, dtheta)
 };
 
 class RearOdometryUnit : public Registers<RearOdometryUnitRegs> {
@@ -78,12 +69,6 @@ class RearOdometryUnit : public Registers<RearOdometryUnitRegs> {
             ((in.n_right - in.n_left) * in.dtheta_scale.to_sint()).wrap<Heading::width>()};
   }
   [[nodiscard]] bool idle(const In& in) const { return (in.start | in.reset).is_zero(); }
-
-  template <class V>
-  void trace(V& v) const {
-    v.signal("ds", r_.ds);
-    v.signal("dtheta", r_.dtheta);
-  }
 };
 
 // Front unit. The drive wheel rolls dF along its own heading theta + phi; the
@@ -102,6 +87,7 @@ struct FrontOdometryUnitRegs {
   Distance ds;
   Heading dtheta;
   bool operator==(const FrontOdometryUnitRegs&) const = default;
+  ODOLOC_FIELDS(steer_position, phi, phi_prev, clamped, clamp_flag, drive, turn_per_sin, ds, dtheta)
 };
 
 class FrontOdometryUnit : public Registers<FrontOdometryUnitRegs> {
@@ -149,19 +135,6 @@ class FrontOdometryUnit : public Registers<FrontOdometryUnitRegs> {
   [[nodiscard]] cordic::Angle cordic_angle() const {
     return to_cordic_angle((r_.phi + r_.phi_prev).shr<1>());
   }
-
-  template <class V>
-  void trace(V& v) const {
-    v.signal("steer_position", r_.steer_position);
-    v.signal("phi", r_.phi);
-    v.signal("phi_prev", r_.phi_prev);
-    v.signal("clamped", r_.clamped);
-    v.signal("clamp_flag", r_.clamp_flag);
-    v.signal("drive", r_.drive);
-    v.signal("turn_per_sin", r_.turn_per_sin);
-    v.signal("ds", r_.ds);
-    v.signal("dtheta", r_.dtheta);
-  }
 };
 
 // The paper's error reduction: slip and bumps only ever add counts, so the
@@ -181,6 +154,8 @@ struct MinSelectRegs {
   UInt<1> dtheta_from_front;  // status: which source won the heading
   SInt<62> rear_ds_sum, front_ds_sum, rear_dtheta_sum, front_dtheta_sum;  // leaky sums
   bool operator==(const MinSelectRegs&) const = default;
+  ODOLOC_FIELDS(ds, dtheta, ds_from_front, dtheta_from_front, rear_ds_sum, front_ds_sum,
+                rear_dtheta_sum, front_dtheta_sum)
 };
 
 class MinSelect : public Registers<MinSelectRegs> {
@@ -235,18 +210,6 @@ class MinSelect : public Registers<MinSelectRegs> {
   }
   [[nodiscard]] bool idle(const In& in) const { return (in.select | in.reset).is_zero(); }
 
-  template <class V>
-  void trace(V& v) const {
-    v.signal("ds", r_.ds);
-    v.signal("dtheta", r_.dtheta);
-    v.signal("ds_from_front", r_.ds_from_front);
-    v.signal("dtheta_from_front", r_.dtheta_from_front);
-    v.signal("rear_ds_sum", r_.rear_ds_sum);
-    v.signal("front_ds_sum", r_.front_ds_sum);
-    v.signal("rear_dtheta_sum", r_.rear_dtheta_sum);
-    v.signal("front_dtheta_sum", r_.front_dtheta_sum);
-  }
-
  private:
   // A - A/2^shift + inc, saturating; shift 0 keeps only inc.
   template <int W>
@@ -269,6 +232,7 @@ struct PoseIntegratorRegs {
   SInt<64> x, y;   // 2^-46 m
   UInt<40> theta;  // 2^-40 turn
   bool operator==(const PoseIntegratorRegs&) const = default;
+  ODOLOC_FIELDS(x, y, theta)
 };
 
 class PoseIntegrator : public Registers<PoseIntegratorRegs> {
@@ -300,36 +264,68 @@ class PoseIntegrator : public Registers<PoseIntegratorRegs> {
   [[nodiscard]] cordic::Angle cordic_angle(Heading dtheta) const {
     return to_cordic_angle(r_.theta.to_sint() + dtheta.shr<1>());
   }
+};
 
-  template <class V>
-  void trace(V& v) const {
-    v.signal("x", r_.x);
-    v.signal("y", r_.y);
-    v.signal("theta", r_.theta);
+// The results of the last update, as the register file shows them. Every
+// one of them, the pose and the update count change on the same clock edge
+// (the `publish` strobe is the pose's `integrate`), so an SPI snapshot can
+// never pair the pose of one update with the increments or count of another.
+struct OdometryReportRegs {
+  Distance rear_ds, front_ds, ds;
+  Heading rear_dtheta, front_dtheta, dtheta;
+  Steer steer_phi;
+  SInt<24> steer_position;
+  UInt<1> ds_from_front, dtheta_from_front;
+  bool operator==(const OdometryReportRegs&) const = default;
+  ODOLOC_FIELDS(rear_ds, front_ds, ds, rear_dtheta, front_dtheta, dtheta, steer_phi, steer_position,
+                ds_from_front, dtheta_from_front)
+};
+
+class OdometryReport : public Registers<OdometryReportRegs> {
+ public:
+  struct In {
+    UInt<1> publish;
+    RearOdometryUnit::Regs rear;
+    Distance front_ds;
+    Heading front_dtheta;
+    Steer steer_phi;
+    SInt<24> steer_position;
+    Distance ds;
+    Heading dtheta;
+    UInt<1> ds_from_front, dtheta_from_front;
+    UInt<1> reset;
+  };
+  [[nodiscard]] Regs eval(const In& in) const {
+    if (in.reset)
+      return Regs{};
+    if (!in.publish)
+      return r_;
+    return {.rear_ds = in.rear.ds,
+            .front_ds = in.front_ds,
+            .ds = in.ds,
+            .rear_dtheta = in.rear.dtheta,
+            .front_dtheta = in.front_dtheta,
+            .dtheta = in.dtheta,
+            .steer_phi = in.steer_phi,
+            .steer_position = in.steer_position,
+            .ds_from_front = in.ds_from_front,
+            .dtheta_from_front = in.dtheta_from_front};
   }
+  [[nodiscard]] bool idle(const In& in) const { return (in.publish | in.reset).is_zero(); }
 };
 
 // Runs one update per control period with one shared CORDIC:
-//   LATCH          latch-and-clear all four EPPMs
-//   GATHER         rear unit computes; front unit takes counts and steering
-//   PHI_LOAD/WAIT  CORDIC: sin/cos of the mid-period steering angle
-//   FRONT          front unit finishes
-//   SELECT         min-select
-//   THETA_LOAD/WAIT CORDIC: sin/cos of the mid-step heading
-//   INTEGRATE      pose update
+//   LATCH           latch-and-clear all four EPPMs
+//   GATHER          rear unit computes; front unit takes counts and steering
+//   PHI_LOAD/WAIT   CORDIC: sin/cos of the mid-period steering angle
+//   FRONT           front unit finishes
+//   SELECT          min-select
+//   THETA_LOAD/WAIT CORDIC: sin/cos of the mid-step heading; in the clock the
+//                   result is ready the pose integrates, the report publishes
+//                   and `updates` counts, all on one edge
+// Each phase's work commits on the edge that leaves the phase.
 // kUpdateLatencyClocks from the LATCH edge to the pose edge.
-enum class OdometryPhase : std::uint8_t {
-  kIdle,
-  kLatch,
-  kGather,
-  kPhiLoad,
-  kPhiWait,
-  kFront,
-  kSelect,
-  kThetaLoad,
-  kThetaWait,
-  kIntegrate,
-};
+using OdometryPhase = regs::odometry::status::Phase;
 
 struct OdometrySequencerRegs {
   UInt<4> phase;
@@ -337,13 +333,14 @@ struct OdometrySequencerRegs {
   UInt<32> updates;  // completed pose updates
   UInt<1> overrun;   // sticky: a period ended before the update finished
   bool operator==(const OdometrySequencerRegs&) const = default;
+  ODOLOC_FIELDS(phase, period_count, updates, overrun)
 };
 
 class OdometrySequencer : public Registers<OdometrySequencerRegs> {
  public:
   // LATCH edge -> GATHER, PHI_LOAD, 16 iterations, ready seen, FRONT, SELECT,
-  // THETA_LOAD, 16 iterations, ready seen, INTEGRATE edge.
-  static constexpr unsigned kUpdateLatencyClocks = 4 + 2 * (cordic::kIterations + 2);
+  // THETA_LOAD, 16 iterations, ready seen (the pose, report and count edge).
+  static constexpr unsigned kUpdateLatencyClocks = 5 + 2 * (cordic::kIterations + 1);
   struct In {
     UInt<16> update_clocks;
     UInt<1> cordic_ready;
@@ -371,12 +368,10 @@ class OdometrySequencer : public Registers<OdometrySequencerRegs> {
           n.phase = encode(OdometryPhase::kFront);
         break;
       case OdometryPhase::kThetaWait:
-        if (in.cordic_ready)
-          n.phase = encode(OdometryPhase::kIntegrate);
-        break;
-      case OdometryPhase::kIntegrate:
-        n.phase = encode(OdometryPhase::kIdle);
-        n.updates = (r_.updates + UInt<1>{1}).wrap<32>();
+        if (in.cordic_ready) {
+          n.phase = encode(OdometryPhase::kIdle);
+          n.updates = (r_.updates + UInt<1>{1}).wrap<32>();
+        }
         break;
       default:
         n.phase = (r_.phase + UInt<1>{1}).wrap<4>();
@@ -387,14 +382,6 @@ class OdometrySequencer : public Registers<OdometrySequencerRegs> {
   [[nodiscard]] bool idle(const In&) const { return false; }  // the period counter runs
   [[nodiscard]] OdometryPhase phase() const { return static_cast<OdometryPhase>(r_.phase.value()); }
   [[nodiscard]] bool in(OdometryPhase p) const { return phase() == p; }
-
-  template <class V>
-  void trace(V& v) const {
-    v.signal("phase", r_.phase);
-    v.signal("period_count", r_.period_count);
-    v.signal("updates", r_.updates);
-    v.signal("overrun", r_.overrun);
-  }
 
  private:
   static constexpr UInt<4> encode(OdometryPhase p) { return UInt<4>{static_cast<std::uint8_t>(p)}; }

@@ -1,5 +1,11 @@
 // The odometry fabric: four EPPMs, one shared sequential CORDIC, the rear and
-// front computation units, min-select and the pose integrator on one clock.
+// front computation units, min-select, the pose integrator and the report of
+// the last update on one clock.
+//
+// Ports (odoloc/ports.hpp, generated from regmap/odoloc.yaml): the
+// configuration is ports::Config (eppm.* and odometry.* rw registers), the
+// one-clock strobes are the eppm.*.status and odometry.status clears and the
+// odometry.command pulses, and status() is what the register file reads.
 #pragma once
 
 #include <array>
@@ -10,73 +16,124 @@
 
 namespace odoloc::rtl {
 
-// One clear strobe per sticky odometry flag (register odometry.status, w1c).
-struct OdometryFlagClear {
-  UInt<1> overrun;        // the sequencer's, and the CORDIC's load_ignored
-  UInt<1> steer_clamped;  // the front unit's clamp flag
-  static constexpr OdometryFlagClear all(UInt<1> clear) { return {clear, clear}; }
-  [[nodiscard]] constexpr UInt<1> any() const { return overrun | steer_clamped; }
-  bool operator==(const OdometryFlagClear&) const = default;
-};
-
-struct OdometryFabricConfig {
-  EncoderFabric::Configs eppm{};
-  OdometryConfig odometry{};
+struct OdometryFabricInputs {
+  std::array<UInt<2>, kEncoderCount> pins{};        // A/B per encoder, A in bit 1
+  std::array<EppmFlagClear, kEncoderCount> eppm{};  // eppm.*.status clears
+  OdometryPulses odometry;  // odometry.status clears; command.set_pose, command.clear_flags
+  UInt<1> reset;
+  ODOLOC_FIELDS(pins, eppm, odometry, reset)
 };
 
 class OdometryFabric {
  public:
-  struct Inputs {
-    std::array<UInt<2>, kWheelCount> pins{};  // A/B per encoder, A in bit 1
-    UInt<1> set_pose;                         // load `pose` into the integrator
-    PoseIntegrator::Regs pose;
-    std::array<EppmFlagClear, kWheelCount> eppm_clear{};
-    OdometryFlagClear odometry_clear;
-    UInt<1> reset;
-    // Every sticky flag of the fabric (odometry.command.clear_flags).
-    void clear_all(UInt<1> clear) {
-      eppm_clear.fill(EppmFlagClear::all(clear));
-      odometry_clear = OdometryFlagClear::all(clear);
-    }
-  };
+  using In = OdometryFabricInputs;
+  using Config = ports::Config;  // its top block is the SPI interface's, not read here
 
-  template <Gating G = Gating::kOn>
-  [[gnu::flatten]] void step(const Inputs& in, const OdometryFabricConfig& cfg) {
+  // The wires into every child, from the current registers only.
+  struct Wires {
+    EncoderFabric::In encoders;
+    OdometrySequencer::In sequencer;
+    SequentialCordic::In cordic;
+    RearOdometryUnit::In rear;
+    FrontOdometryUnit::In front;
+    MinSelect::In select;
+    PoseIntegrator::In integrator;
+    OdometryReport::In report;
+  };
+  [[nodiscard]] Wires wires(const In& in, const Config& cfg) const {
     const OdometryConfig& oc = cfg.odometry;
-    const OdometrySequencer::In sequencer_in{oc.update_clocks, cordic_.regs().ready,
-                                             in.odometry_clear.overrun, in.reset};
+    const UInt<1> clear_all = in.odometry.command.clear_flags;
+    const UInt<1> phi_load = phase_is(OdometryPhase::kPhiLoad);
+    const UInt<1> theta_load = phase_is(OdometryPhase::kThetaLoad);
+    const UInt<1> gather = phase_is(OdometryPhase::kGather);
+    const UInt<1> integrate = phase_is(OdometryPhase::kThetaWait) & cordic_.regs().ready;
+    const auto latched = [&](Encoder w) { return encoders_.eppm(w).counter().latched; };
+    const cordic::SinCos sincos = cordic_.regs().result;
+    const RearOdometryUnit::Regs& rear = rear_.regs();
+    const FrontOdometryUnit::Regs& front = front_.regs();
+    const MinSelect::Regs& select = select_.regs();
+    return {
+        .encoders = eppm_inputs(in, phase_is(OdometryPhase::kLatch)),
+        .sequencer = sequencer_in(in, cfg),
+        .cordic = {.load = phi_load | theta_load,
+                   .angle =
+                       phi_load ? front_.cordic_angle() : integrator_.cordic_angle(select.dtheta),
+                   .clear_flags = in.odometry.status.overrun | clear_all,
+                   .reset = in.reset},
+        .rear = {.start = gather,
+                 .n_left = latched(Encoder::kLeftRear),
+                 .n_right = latched(Encoder::kRightRear),
+                 .ds_scale = oc.rear_ds_scale.value,
+                 .dtheta_scale = oc.rear_dtheta_scale.value,
+                 .reset = in.reset},
+        .front = {.start = gather,
+                  .finish = phase_is(OdometryPhase::kFront),
+                  .n_front = latched(Encoder::kFrontDrive),
+                  .n_steer = latched(Encoder::kSteering),
+                  .steer_sincos = sincos,
+                  .ds_scale = oc.front_ds_scale.value,
+                  .dtheta_scale = oc.front_dtheta_scale.value,
+                  .steer_scale = oc.steer_scale.value,
+                  .steer_limit = oc.steer_limit.value,
+                  .clear_clamp = in.odometry.status.steer_clamped | clear_all,
+                  .reset = in.reset},
+        .select = {.select = phase_is(OdometryPhase::kSelect),
+                   .rear = rear,
+                   .front_ds = front.ds,
+                   .front_dtheta = front.dtheta,
+                   .policy = oc.cfg.policy,
+                   .shift = oc.cfg.select_shift,
+                   .ds_threshold = oc.select_ds_threshold.value,
+                   .dtheta_threshold = oc.select_dtheta_threshold.value,
+                   .reset = in.reset},
+        .integrator = {.integrate = integrate,
+                       .ds = select.ds,
+                       .dtheta = select.dtheta,
+                       .heading_sincos = sincos,
+                       .set_pose = in.odometry.command.set_pose,
+                       .new_pose = {.x = oc.set_x.bits,
+                                    .y = oc.set_y.bits,
+                                    .theta = oc.set_theta.bits},
+                       .reset = in.reset},
+        .report = {.publish = integrate,
+                   .rear = rear,
+                   .front_ds = front.ds,
+                   .front_dtheta = front.dtheta,
+                   .steer_phi = front.phi,
+                   .steer_position = front.steer_position,
+                   .ds = select.ds,
+                   .dtheta = select.dtheta,
+                   .ds_from_front = select.ds_from_front,
+                   .dtheta_from_front = select.dtheta_from_front,
+                   .reset = in.reset},
+    };
+  }
+
+  template <Gating G = Gating::kOn, class Order = DeclarationOrder>
+  [[gnu::flatten]] void step(const In& in, const Config& cfg, const Order& order = {}) {
     // Between updates (the common case) only the EPPMs and the period
     // counter move: the CORDIC and every unit are idle.
-    if (G == Gating::kOn && sequencer_.in(OdometryPhase::kIdle) &&
-        (in.set_pose | in.odometry_clear.any() | in.reset).is_zero()) {
-      encoders_.step<G>(eppm_inputs(in, UInt<1>{}), cfg.eppm);
-      sequencer_.commit(sequencer_.eval(sequencer_in));
+    if (G == Gating::kOn && sequencer_.in(OdometryPhase::kIdle) && in.reset.is_zero() &&
+        !any_set(in.odometry)) {
+      const EncoderFabric::In encoders_in = eppm_inputs(in, UInt<1>{});
+      const OdometrySequencer::In sequencer_in_ = sequencer_in(in, cfg);
+      order([&] { encoders_.step<G>(encoders_in, cfg.eppm, order); },
+            [&] { sequencer_.commit(sequencer_.eval(sequencer_in_)); });
       return;
     }
-    // Wires from the current registers.
-    const UInt<1> phi_load = bit(sequencer_.in(OdometryPhase::kPhiLoad));
-    const UInt<1> theta_load = bit(sequencer_.in(OdometryPhase::kThetaLoad));
-    const UInt<1> gather = bit(sequencer_.in(OdometryPhase::kGather));
-    const auto latched = [&](Wheel w) { return encoders_.eppm(w).counter().latched; };
-    const cordic::SinCos sincos = cordic_.regs().result;
-    const cordic::Angle cordic_angle =
-        phi_load ? front_.cordic_angle() : integrator_.cordic_angle(select_.regs().dtheta);
-
-    encoders_.step<G>(eppm_inputs(in, bit(sequencer_.in(OdometryPhase::kLatch))), cfg.eppm);
-    clock_block<G>(sequencer_, sequencer_in);
-    clock_block<G>(cordic_,
-                   {phi_load | theta_load, cordic_angle, in.odometry_clear.overrun, in.reset});
-    clock_block<G>(rear_, {gather, latched(Wheel::kLeftRear), latched(Wheel::kRightRear),
-                           oc.rear_ds_scale, oc.rear_dtheta_scale, in.reset});
-    clock_block<G>(front_,
-                   {gather, bit(sequencer_.in(OdometryPhase::kFront)), latched(Wheel::kFrontDrive),
-                    latched(Wheel::kSteering), sincos, oc.front_ds_scale, oc.front_dtheta_scale,
-                    oc.steer_scale, oc.steer_limit, in.odometry_clear.steer_clamped, in.reset});
-    clock_block<G>(select_, {bit(sequencer_.in(OdometryPhase::kSelect)), rear_.regs(),
-                             front_.regs().ds, front_.regs().dtheta, oc.policy, oc.select_shift,
-                             oc.select_ds_threshold, oc.select_dtheta_threshold, in.reset});
-    clock_block<G>(integrator_, {bit(sequencer_.in(OdometryPhase::kIntegrate)), select_.regs().ds,
-                                 select_.regs().dtheta, sincos, in.set_pose, in.pose, in.reset});
+    const Wires w = wires(in, cfg);
+    order([&] { encoders_.step<G>(w.encoders, cfg.eppm, order); },
+          [&] { clock_block<G>(sequencer_, w.sequencer); },
+          [&] { clock_block<G>(cordic_, w.cordic); }, [&] { clock_block<G>(rear_, w.rear); },
+          [&] { clock_block<G>(front_, w.front); }, [&] { clock_block<G>(select_, w.select); },
+          [&] { clock_block<G>(integrator_, w.integrator); },
+          [&] { clock_block<G>(report_, w.report); });
+  }
+  [[nodiscard]] bool idle(const In& in, const Config& cfg) const {
+    const Wires w = wires(in, cfg);
+    return encoders_.idle(w.encoders, cfg.eppm) && sequencer_.idle(w.sequencer) &&
+           cordic_.idle(w.cordic) && rear_.idle(w.rear) && front_.idle(w.front) &&
+           select_.idle(w.select) && integrator_.idle(w.integrator) && report_.idle(w.report);
   }
 
   void reset_now() {
@@ -87,6 +144,35 @@ class OdometryFabric {
     front_.reset_now();
     select_.reset_now();
     integrator_.reset_now();
+    report_.reset_now();
+  }
+
+  // What the register file reads: every eppm.* and odometry.* status field
+  // (the top block's belong to the SPI interface and stay 0 here).
+  [[nodiscard]] ports::Status status(const Config& cfg) const {
+    ports::Status s;
+    for (std::size_t w = 0; w < kEncoderCount; ++w)
+      s.eppm[w] = encoders_.eppm(static_cast<Encoder>(w)).status(cfg.eppm[w]);
+    const OdometryReport::Regs& r = report_.regs();
+    OdometryStatus& o = s.odometry;
+    o.status.overrun = sequencer_.regs().overrun;
+    o.status.steer_clamped = front_.regs().clamp_flag;
+    o.status.ds_from_front = r.ds_from_front;
+    o.status.dtheta_from_front = r.dtheta_from_front;
+    o.status.phase = sequencer_.regs().phase;
+    o.updates.count = sequencer_.regs().updates;
+    o.pose_x.bits = integrator_.regs().x;
+    o.pose_y.bits = integrator_.regs().y;
+    o.pose_theta.bits = integrator_.regs().theta;
+    o.rear_ds.bits = r.rear_ds;
+    o.rear_dtheta.bits = r.rear_dtheta;
+    o.front_ds.bits = r.front_ds;
+    o.front_dtheta.bits = r.front_dtheta;
+    o.ds.bits = r.ds;
+    o.dtheta.bits = r.dtheta;
+    o.steer_phi.bits = r.steer_phi;
+    o.steer_position.counts = r.steer_position;
+    return s;
   }
 
   [[nodiscard]] const EncoderFabric& encoders() const { return encoders_; }
@@ -97,6 +183,7 @@ class OdometryFabric {
   [[nodiscard]] const FrontOdometryUnit::Regs& front() const { return front_.regs(); }
   [[nodiscard]] const MinSelect::Regs& select() const { return select_.regs(); }
   [[nodiscard]] const PoseIntegrator::Regs& pose() const { return integrator_.regs(); }
+  [[nodiscard]] const OdometryReport::Regs& report() const { return report_.regs(); }
 
   template <class V>
   void trace(V& v) const {
@@ -107,17 +194,38 @@ class OdometryFabric {
     trace_scope(v, "front", front_);
     trace_scope(v, "select", select_);
     trace_scope(v, "pose", integrator_);
+    trace_scope(v, "report", report_);
   }
 
  private:
-  static UInt<1> bit(bool b) { return UInt<1>::truncate(b); }
-  static EncoderFabric::Inputs eppm_inputs(const Inputs& in, UInt<1> latch) {
-    EncoderFabric::Inputs e;
-    for (std::size_t w = 0; w < kWheelCount; ++w) {
-      e[w] = {in.pins[w].bit<1>(), in.pins[w].bit<0>(), latch, in.eppm_clear[w], in.reset};
+  [[nodiscard]] UInt<1> phase_is(OdometryPhase p) const {
+    return UInt<1>::truncate(sequencer_.in(p));
+  }
+  [[nodiscard]] OdometrySequencer::In sequencer_in(const In& in, const Config& cfg) const {
+    return {.update_clocks = cfg.odometry.cfg.update_clocks,
+            .cordic_ready = cordic_.regs().ready,
+            .clear_overrun = in.odometry.status.overrun | in.odometry.command.clear_flags,
+            .reset = in.reset};
+  }
+  // The EPPMs' inputs: pins, latch-and-clear, and each flag's clear (its own
+  // strobe or command.clear_flags).
+  static EncoderFabric::In eppm_inputs(const In& in, UInt<1> latch) {
+    const UInt<1> clear_all = in.odometry.command.clear_flags;
+    EncoderFabric::In e;
+    for (std::size_t w = 0; w < kEncoderCount; ++w) {
+      const auto& c = in.eppm[w].status;
+      e[w] = {.a = in.pins[w].bit<1>(),
+              .b = in.pins[w].bit<0>(),
+              .latch_clear = latch,
+              .clear = {.status = {.phase_error = c.phase_error | clear_all,
+                                   .carry = c.carry | clear_all,
+                                   .borrow = c.borrow | clear_all,
+                                   .period_overflow = c.period_overflow | clear_all}},
+              .reset = in.reset};
     }
     return e;
   }
+
   EncoderFabric encoders_;
   OdometrySequencer sequencer_;
   SequentialCordic cordic_;
@@ -125,6 +233,7 @@ class OdometryFabric {
   FrontOdometryUnit front_;
   MinSelect select_;
   PoseIntegrator integrator_;
+  OdometryReport report_;
 };
 
 }  // namespace odoloc::rtl

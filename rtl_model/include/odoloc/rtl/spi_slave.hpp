@@ -58,15 +58,17 @@
 #include <cstdint>
 #include <span>
 
+#include "odoloc/regs.hpp"
 #include "odoloc/rtl/bits.hpp"
 #include "odoloc/rtl/clocked.hpp"
 
 namespace odoloc::rtl {
 
-// CRC-8 as in SAE J1850: polynomial 0x1D, init 0xFF, no reflection, final XOR 0xFF.
-inline constexpr std::uint8_t kCrc8Poly = 0x1D;
-inline constexpr std::uint8_t kCrc8Init = 0xFF;
-inline constexpr std::uint8_t kCrc8XorOut = 0xFF;
+// CRC-8 as in SAE J1850 (regmap/odoloc.yaml, spi.crc): polynomial 0x1D,
+// init 0xFF, no reflection, final XOR 0xFF.
+inline constexpr std::uint8_t kCrc8Poly = regs::spi::kCrcPolynomial;
+inline constexpr std::uint8_t kCrc8Init = regs::spi::kCrcInit;
+inline constexpr std::uint8_t kCrc8XorOut = regs::spi::kCrcXorOut;
 
 // One message bit into the CRC shift register (what the hardware does per SCLK).
 constexpr UInt<8> crc8_step(UInt<8> crc, UInt<1> bit) {
@@ -82,7 +84,7 @@ constexpr std::uint8_t crc8_j1850(std::span<const std::uint8_t> bytes) {
   return static_cast<std::uint8_t>(crc.value() ^ kCrc8XorOut);
 }
 
-inline constexpr unsigned kSpiMaxBurst = 32;
+inline constexpr unsigned kSpiMaxBurst = regs::spi::kMaxBurst;
 
 struct SpiSlaveRegs {
   UInt<1> sclk_meta, sclk_sync, sclk_prev;
@@ -113,16 +115,36 @@ struct SpiSlaveRegs {
   UInt<6> commit_count;
   UInt<4> status;
   bool operator==(const SpiSlaveRegs&) const = default;
+  ODOLOC_FIELDS(sclk_meta, sclk_sync, sclk_prev, cs_meta, cs_sync, cs_prev, mosi_meta, mosi_sync,
+                active, crc_on, fall_armed, level_clocks, frame_overrun, rx_count, rx_shift, rx_crc,
+                command, words, tx_count, tx_shift, tx_crc, read_word, miso, snapshot, read_strobe,
+                read_address, commit, commit_write, frame_end, commit_address, commit_count, status)
+};
+
+// The register side's wires from the slave, as values (see the interface
+// above); words[0..commit_count-1] are valid while commit is high.
+struct SpiRegisterPort {
+  UInt<1> snapshot, read_strobe;
+  UInt<10> read_address;
+  UInt<1> commit, commit_write, frame_end;
+  UInt<10> commit_address;
+  UInt<6> commit_count;
+  UInt<4> status;
+  std::array<UInt<32>, kSpiMaxBurst> words;
+  // Any strobe the register side acts on.
+  [[nodiscard]] bool active() const {
+    return !(snapshot | read_strobe | commit | frame_end).is_zero();
+  }
 };
 
 class SpiSlave : public Registers<SpiSlaveRegs> {
  public:
-  static constexpr unsigned kMinLevelClocks = 4;
-  // status bits, as in top.spi_status
-  static constexpr std::uint8_t kStatusCrcError = 1;
-  static constexpr std::uint8_t kStatusBadLength = 2;
-  static constexpr std::uint8_t kStatusWriteRefused = 4;
-  static constexpr std::uint8_t kStatusOverrun = 8;
+  static constexpr unsigned kMinLevelClocks = regs::spi::kMinLevelClocks;
+  // status bits: the top.spi_status fields
+  static constexpr std::uint8_t kStatusCrcError = regs::top::spi_status::crc_error.mask();
+  static constexpr std::uint8_t kStatusBadLength = regs::top::spi_status::bad_length.mask();
+  static constexpr std::uint8_t kStatusWriteRefused = regs::top::spi_status::write_refused.mask();
+  static constexpr std::uint8_t kStatusOverrun = regs::top::spi_status::overrun.mask();
 
   struct In {
     UInt<1> sclk, cs_n, mosi;  // pins, asynchronous
@@ -183,32 +205,17 @@ class SpiSlave : public Registers<SpiSlaveRegs> {
            r_.level_clocks.value() == UInt<3>::max_value;
   }
 
-  template <class V>
-  void trace(V& v) const {
-    v.signal("sclk_sync", r_.sclk_sync);
-    v.signal("cs_n_sync", r_.cs_sync);
-    v.signal("mosi_sync", r_.mosi_sync);
-    v.signal("active", r_.active);
-    v.signal("level_clocks", r_.level_clocks);
-    v.signal("frame_overrun", r_.frame_overrun);
-    v.signal("rx_count", r_.rx_count);
-    v.signal("rx_shift", r_.rx_shift);
-    v.signal("rx_crc", r_.rx_crc);
-    v.signal("command", r_.command);
-    v.signal("tx_count", r_.tx_count);
-    v.signal("tx_shift", r_.tx_shift);
-    v.signal("tx_crc", r_.tx_crc);
-    v.signal("read_word", r_.read_word);
-    v.signal("miso", r_.miso);
-    v.signal("snapshot", r_.snapshot);
-    v.signal("read_strobe", r_.read_strobe);
-    v.signal("read_address", r_.read_address);
-    v.signal("commit", r_.commit);
-    v.signal("commit_write", r_.commit_write);
-    v.signal("commit_address", r_.commit_address);
-    v.signal("commit_count", r_.commit_count);
-    v.signal("frame_end", r_.frame_end);
-    v.signal("status", r_.status);
+  [[nodiscard]] SpiRegisterPort port() const {
+    return {.snapshot = r_.snapshot,
+            .read_strobe = r_.read_strobe,
+            .read_address = r_.read_address,
+            .commit = r_.commit,
+            .commit_write = r_.commit_write,
+            .frame_end = r_.frame_end,
+            .commit_address = r_.commit_address,
+            .commit_count = r_.commit_count,
+            .status = r_.status,
+            .words = r_.words};
   }
 
  private:

@@ -13,9 +13,11 @@
 #include <cstdint>
 #include <numbers>
 
+#include "odoloc/regs.hpp"
+
 namespace odoloc::sw {
 
-inline constexpr double kFabricClockHz = 50.0e6;
+inline constexpr double kFabricClockHz = regs::kFabricClockHz;
 
 struct EncoderGeometry {
   double wheel_radius_m = 0.1;
@@ -29,8 +31,10 @@ struct EncoderGeometry {
 };
 
 struct SpeedTiming {
-  std::uint32_t window_clocks = 50'000;  // pulse-mode window T in fabric clocks
-  std::uint32_t prescale = 49;           // reference tick every prescale+1 clocks
+  // The register resets: eppm.*.window (pulse-mode window T in fabric clocks)
+  // and eppm.*.prescale (a reference tick every prescale+1 clocks).
+  std::uint32_t window_clocks = regs::eppm::window::clocks.reset;
+  std::uint32_t prescale = regs::eppm::prescale::divider.reset;
   double fabric_clock_hz = kFabricClockHz;
 
   [[nodiscard]] double window_s() const { return window_clocks / fabric_clock_hz; }

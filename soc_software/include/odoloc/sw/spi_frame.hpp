@@ -13,14 +13,15 @@
 #include <string>
 #include <vector>
 
+#include "odoloc/regs.hpp"
 #include "odoloc/sw/register_bus.hpp"
 
 namespace odoloc::sw {
 
-inline constexpr unsigned kSpiMaxBurst = 32;
+inline constexpr unsigned kSpiMaxBurst = regs::spi::kMaxBurst;
 inline constexpr unsigned kSpiHeaderBytes = 2;
 
-// SAE J1850 CRC-8 (poly 0x1D, init 0xFF, final XOR 0xFF), byte-wise.
+// SAE J1850 CRC-8 (regs::spi: poly 0x1D, init 0xFF, final XOR 0xFF), byte-wise.
 std::uint8_t crc8_j1850(std::span<const std::uint8_t> bytes);
 
 enum class SpiOp : bool { kWrite = false, kRead = true };

@@ -1,7 +1,7 @@
 // Where the tool's register accesses go: a `Target` gives the register bus
 // and a way to let time pass. `open_target` picks the transport from the
 // --target spec through one table of target kinds:
-//   sim[:SCENARIO]              the simulated board (odoloc::sim::SimTarget)
+//   sim[:SCENARIO]              the simulated board (odoloc::board::SimTarget)
 //   spidev:/dev/spidevB.C[@HZ]  a Linux spidev device (default 1 MHz)
 //   lcm[:...]                   remote simulator (not available yet)
 #pragma once
@@ -12,6 +12,7 @@
 #include <string>
 #include <string_view>
 
+#include "odoloc/regs.hpp"
 #include "odoloc/sw/register_bus.hpp"
 
 namespace odoloc::cli {
@@ -37,8 +38,8 @@ class Target {
 };
 
 inline constexpr std::uint32_t kSpidevDefaultHz = 1'000'000;
-// docs/spi.md: each SCLK level must last 4 fabric clocks at 50 MHz.
-inline constexpr std::uint32_t kSpidevMaxHz = 6'250'000;
+// docs/spi.md: each SCLK level must last spi.min_level_clocks fabric clocks.
+inline constexpr std::uint32_t kSpidevMaxHz = regs::spi::kMaxSclkHz;
 
 struct SpidevSpec {
   std::string device;

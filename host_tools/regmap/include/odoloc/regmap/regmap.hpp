@@ -20,14 +20,32 @@ class RegmapError : public std::runtime_error {
 enum class Access : std::uint8_t { kRo, kRw, kW1c, kRc, kW1p };
 const char* to_string(Access a);
 
+// What the hardware does with a field (OpenTitan hwaccess, SystemRDL hw):
+//   r      reads the stored value (configuration) or the pulse (w1p)
+//   w      drives the value (live status)
+//   set    sets a sticky flag on an event; software clears it (w1c)
+//   count  increments a counter (rc)
+//   none   no connection: scratch storage, or a constant (ro: the reset value)
+// Legal with each access: rw {r, none}, ro {w, none}, w1c {set}, rc {count},
+// w1p {r}.
+enum class Hw : std::uint8_t { kR, kW, kSet, kCount, kNone };
+const char* to_string(Hw h);
+
 struct Field {
   std::string name;
   int msb = 0, lsb = 0;
   Access access = Access::kRo;
+  Hw hw = Hw::kNone;
   std::uint32_t reset = 0;  // the field's raw bits
   bool is_signed = false;
   std::string description;
   std::vector<std::pair<std::string, std::uint32_t>> enums;
+  // The hardware port this field (or slice of a wide field) belongs to: its
+  // width and signedness, which bit of the port the field's lsb carries, and
+  // the port's reset. For a field of a one-word register: the field itself.
+  int port_width = 0, port_shift = 0;
+  bool port_signed = false;
+  std::uint64_t port_reset = 0;
   [[nodiscard]] int width() const { return msb - lsb + 1; }
   [[nodiscard]] std::uint32_t mask() const;  // in the register
 };
@@ -36,11 +54,21 @@ struct Register {
   std::string name;
   std::uint32_t offset = 0;
   Access access = Access::kRo;
+  Hw hw = Hw::kNone;  // the fields' default
   bool snapshot = false;
   std::string description;
   std::vector<Field> fields;
+  // A word of a `words: 2` register: the wide register's name, its
+  // description, and which word this is (0: bits 31:0, 1: bits 63:32).
+  std::string wide;
+  std::string wide_description;
+  int word = 0;
   [[nodiscard]] std::uint32_t reset() const;
   [[nodiscard]] std::uint32_t mask(Access a) const;  // the bits of fields with access a
+  [[nodiscard]] std::uint32_t mask(Hw h) const;      // the bits of fields with hw h
+  [[nodiscard]] std::uint32_t const_mask() const;    // ro fields with hw none: constants
+  // The name of the hardware port group: the wide name for a word register.
+  [[nodiscard]] const std::string& port_name() const { return wide.empty() ? name : wide; }
 };
 
 struct Block {
@@ -54,11 +82,24 @@ struct Block {
   std::vector<Register> registers;
 };
 
+// The SPI interface's global facts.
+struct Spi {
+  int max_burst = 0;         // registers per frame (the frame's 5-bit burst field: 1..32)
+  int min_level_clocks = 0;  // fabric clocks SCLK must stay at each level
+  std::uint8_t crc_polynomial = 0, crc_init = 0, crc_xor_out = 0;  // CRC-8
+};
+
 struct RegisterMap {
   std::string name, description;
   int address_bits = 0;
   int data_bits = 0;
+  std::uint32_t clock_hz = 0;  // the fabric clock
+  Spi spi;
   std::vector<Block> blocks;
+  [[nodiscard]] std::uint32_t clock_period_ns() const { return 1000000000U / clock_hz; }
+  [[nodiscard]] std::uint32_t max_sclk_hz() const {
+    return clock_hz / (2U * static_cast<std::uint32_t>(spi.min_level_clocks));
+  }
 };
 
 // One register at one address.
@@ -72,7 +113,9 @@ struct RegisterInstance {
 };
 
 // Parses and checks: duplicate names, overlapping addresses or fields, fields
-// outside the data width, resets and enum values that do not fit their field.
+// outside the data width, resets and enum values that do not fit their field,
+// illegal (access, hw) pairs, bad clock or SPI facts. Expands every
+// `words: 2` register into its `<name>_lo` and `<name>_hi` word registers.
 RegisterMap parse(const std::string& yaml_text);
 RegisterMap load(const std::string& path);
 // Every register instance, by address.
@@ -80,6 +123,8 @@ std::vector<RegisterInstance> flatten(const RegisterMap& map);
 
 // The generated artefacts.
 std::string emit_cpp(const RegisterMap& map);
+// odoloc/ports.hpp: typed register <-> hardware port structs, decode/encode.
+std::string emit_ports(const RegisterMap& map);
 std::string emit_c(const RegisterMap& map);
 std::string emit_systemrdl(const RegisterMap& map);
 std::string emit_markdown(const RegisterMap& map);

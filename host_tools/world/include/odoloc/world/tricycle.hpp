@@ -16,16 +16,32 @@
 #include <numbers>
 #include <vector>
 
-#include "odoloc/rtl/bits.hpp"
-#include "odoloc/rtl/encoder_fabric.hpp"
-#include "odoloc/sim/quadrature_source.hpp"
+#include "odoloc/world/quadrature_source.hpp"
 
-namespace odoloc::sim {
+namespace odoloc::world {
 
-// Encoders are indexed like the fabric's EPPMs: left rear, right rear, front
-// drive, steering.
-using rtl::Wheel;
-inline constexpr std::size_t kEncoderCount = rtl::kWheelCount;
+// The robot's four incremental encoders. Arrays of per-encoder values
+// (tick(), true_edges(), TrajectorySample::edges) are indexed by
+// index(Encoder).
+enum class Encoder : std::uint8_t { kLeftRear, kRightRear, kFrontDrive, kSteering };
+inline constexpr std::size_t kEncoderCount = 4;
+
+// The three rolling wheels, the only places a bump or slip can act: the
+// steering encoder is not a wheel. Each wheel's encoder is encoder(Wheel).
+enum class Wheel : std::uint8_t { kLeftRear, kRightRear, kFront };
+inline constexpr std::size_t kWheelCount = 3;
+
+constexpr std::size_t index(Encoder e) {
+  return static_cast<std::size_t>(e);
+}
+constexpr std::size_t index(Wheel w) {
+  return static_cast<std::size_t>(w);
+}
+constexpr Encoder encoder(Wheel w) {
+  constexpr std::array<Encoder, kWheelCount> kEncoderOfWheel = {
+      Encoder::kLeftRear, Encoder::kRightRear, Encoder::kFrontDrive};
+  return kEncoderOfWheel[index(w)];
+}
 
 // A rolling wheel and its incremental encoder. The odometry only knows the
 // nominal radius; the ground truth rolls on the true one (radius error).
@@ -60,7 +76,9 @@ struct Geometry {
   WheelEncoder front{.nominal_radius_m = 0.075, .true_radius_m = 0.075, .lines = 500, .gear = 30};
   SteeringEncoder steering;
 
-  [[nodiscard]] const WheelEncoder& wheel(Wheel w) const;  // the three rolling wheels
+  // The rolling wheel's encoder; throws std::invalid_argument for a value
+  // that names no wheel.
+  [[nodiscard]] const WheelEncoder& wheel(Wheel w) const;
 };
 
 struct Pose {
@@ -119,7 +137,7 @@ struct Bump {
 // The wheel turns (1 + ratio) times as far as it travels over the ground
 // while the rear-midpoint odometer is in [start_m, end_m).
 struct Slip {
-  Wheel wheel = Wheel::kFrontDrive;
+  Wheel wheel = Wheel::kFront;
   double start_m = 0;
   double end_m = 0;
   double ratio = 0;
@@ -169,11 +187,11 @@ class TricycleSimulator {
     return state_.segment == path_.segments.size() && clock_in_step_ == 0;
   }
 
-  // Advances one fabric clock; returns each encoder's A/B (A in bit 1),
-  // indexed by Wheel. The physics runs once per step, at its first clock;
+  // Advances one fabric clock; returns each encoder's A/B levels, indexed by
+  // index(Encoder). The physics runs once per step, at its first clock;
   // the other clocks only advance four phase accumulators. Throws
   // std::range_error if an encoder would need more than one edge per clock.
-  std::array<rtl::UInt<2>, kEncoderCount> tick() {
+  std::array<QuadratureLevels, kEncoderCount> tick() {
     if (clock_in_step_ == 0)
       begin_step();
     if (++clock_in_step_ == options_.clocks_per_step)
@@ -185,7 +203,7 @@ class TricycleSimulator {
   // The truth at the current clock (exact, also between step boundaries).
   [[nodiscard]] TruePose pose() const;
   [[nodiscard]] double distance() const { return pose().distance_m; }
-  // Signed x4 edges each encoder has produced so far.
+  // Signed x4 edges each encoder has produced so far, indexed by index(Encoder).
   [[nodiscard]] std::array<std::int64_t, kEncoderCount> true_edges() const {
     return {sources_[0].edges(), sources_[1].edges(), sources_[2].edges(), sources_[3].edges()};
   }
@@ -204,8 +222,8 @@ class TricycleSimulator {
     double segment_distance_m = 0;
     std::size_t next_boundary = 0;  // index into boundaries_
   };
-  // Signed ground distance of each rolling wheel's contact point.
-  using Travel = std::array<double, 3>;
+  // Signed ground distance of each rolling wheel's contact point, by index(Wheel).
+  using Travel = std::array<double, kWheelCount>;
   struct BumpTrack {
     Bump bump;
     bool met = false;
@@ -227,7 +245,7 @@ class TricycleSimulator {
   std::vector<double> boundaries_;  // sorted odometer readings where a disturbance starts or ends
   Options options_;
   double step_s_;
-  std::array<double, 3> edges_per_metre_{};  // true radius
+  std::array<double, kWheelCount> edges_per_metre_{};  // true radius
 
   State state_;       // at the end of the current step
   State step_start_;  // at its beginning
@@ -240,4 +258,4 @@ class TricycleSimulator {
   std::vector<TrajectorySample> trajectory_;
 };
 
-}  // namespace odoloc::sim
+}  // namespace odoloc::world

@@ -11,7 +11,7 @@
 
 #include "odoloc/sw/spi_frame.hpp"
 
-namespace odoloc::sim {
+namespace odoloc::board {
 
 struct SimTargetOptions {
   std::string scenario = "none";  // one of SimTarget::scenarios()
@@ -43,4 +43,4 @@ class SimTarget {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace odoloc::sim
+}  // namespace odoloc::board

@@ -1,4 +1,4 @@
-#include "odoloc/sim/sim_target.hpp"
+#include "odoloc/board/sim_target.hpp"
 
 #include <algorithm>
 #include <fstream>
@@ -7,20 +7,21 @@
 #include <optional>
 #include <stdexcept>
 
-#include "odoloc/scenario/odometry_scenario.hpp"
-#include "odoloc/sim/chip_link.hpp"
-#include "odoloc/sim/tricycle.hpp"
+#include "odoloc/board/chip_link.hpp"
+#include "odoloc/board/encoder_pins.hpp"
+#include "odoloc/world/scenarios.hpp"
+#include "odoloc/world/tricycle.hpp"
 
-namespace odoloc::sim {
+namespace odoloc::board {
 namespace {
 
-using ScenarioMaker = std::function<scenario::Scenario()>;
+using ScenarioMaker = std::function<world::Scenario()>;
 
 const std::map<std::string, ScenarioMaker, std::less<>>& scenario_table() {
   static const std::map<std::string, ScenarioMaker, std::less<>> table{
-      {"square", [] { return scenario::default_square(); }},
-      {"straight", [] { return scenario::bump_scenario(scenario::BumpCase::kNone); }},
-      {"bump_one_rear", [] { return scenario::bump_scenario(scenario::BumpCase::kOneRear); }},
+      {"square", [] { return world::default_square(); }},
+      {"straight", [] { return world::bump_scenario(world::BumpCase::kNone); }},
+      {"bump_one_rear", [] { return world::bump_scenario(world::BumpCase::kOneRear); }},
   };
   return table;
 }
@@ -57,18 +58,18 @@ class SimTarget::Impl {
     const auto it = scenario_table().find(name);
     if (it == scenario_table().end())
       throw std::invalid_argument("unknown scenario '" + name + "'");
-    const scenario::Scenario s = it->second();
-    Options truth_options;
+    const world::Scenario s = it->second();
+    world::Options truth_options;
     truth_options.start = s.start;
     truth_.emplace(s.geometry, s.path, s.disturbances, truth_options);
     // When the path ends the robot stands still: the pins keep their levels.
-    return [this](std::array<rtl::UInt<2>, rtl::kWheelCount>& encoders) {
+    return [this](ChipLink::EncoderPins& encoders) {
       if (!truth_->done())
-        encoders = truth_->tick();
+        drive_encoder_pins(encoders, truth_->tick());
     };
   }
 
-  std::optional<TricycleSimulator> truth_;  // before link_: the stimulus refers to it
+  std::optional<world::TricycleSimulator> truth_;  // before link_: the stimulus refers to it
   ChipLink link_;
   std::ofstream vcd_file_;
   std::optional<rtl::VcdWriter> vcd_;  // after link_: destroyed first, flushed before the file
@@ -102,4 +103,4 @@ std::vector<std::string> SimTarget::scenarios() {
   return names;
 }
 
-}  // namespace odoloc::sim
+}  // namespace odoloc::board

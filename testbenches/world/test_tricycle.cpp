@@ -15,36 +15,40 @@
 #include <cstdlib>
 #include <numbers>
 #include <stdexcept>
+#include <type_traits>
 #include <vector>
 
-#include "odoloc/sim/tricycle.hpp"
+#include "odoloc/world/tricycle.hpp"
 
 namespace {
 
-using odoloc::sim::bump_extra_length;
-using odoloc::sim::bump_under_both_rear;
-using odoloc::sim::bump_under_front;
-using odoloc::sim::bump_under_one_rear;
-using odoloc::sim::Disturbances;
-using odoloc::sim::Geometry;
-using odoloc::sim::kEncoderCount;
-using odoloc::sim::Options;
-using odoloc::sim::Path;
-using odoloc::sim::Pose;
-using odoloc::sim::Segment;
-using odoloc::sim::Slip;
-using odoloc::sim::square_path;
-using odoloc::sim::straight_path;
-using odoloc::sim::TricycleSimulator;
-using odoloc::sim::Wheel;
+using odoloc::world::bump_extra_length;
+using odoloc::world::bump_under_both_rear;
+using odoloc::world::bump_under_front;
+using odoloc::world::bump_under_one_rear;
+using odoloc::world::Disturbances;
+using odoloc::world::Encoder;
+using odoloc::world::Geometry;
+using odoloc::world::index;
+using odoloc::world::kEncoderCount;
+using odoloc::world::Options;
+using odoloc::world::Path;
+using odoloc::world::Pose;
+using odoloc::world::QuadratureLevels;
+using odoloc::world::Segment;
+using odoloc::world::Slip;
+using odoloc::world::square_path;
+using odoloc::world::straight_path;
+using odoloc::world::TricycleSimulator;
+using odoloc::world::Wheel;
 using Edges = std::array<std::int64_t, kEncoderCount>;
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kPoseTolerance = 1e-9;  // metres and radians
-constexpr std::size_t kLeft = 0;
-constexpr std::size_t kRight = 1;
-constexpr std::size_t kFront = 2;
-constexpr std::size_t kSteer = 3;
+constexpr std::size_t kLeft = index(Encoder::kLeftRear);
+constexpr std::size_t kRight = index(Encoder::kRightRear);
+constexpr std::size_t kFront = index(Encoder::kFrontDrive);
+constexpr std::size_t kSteer = index(Encoder::kSteering);
 
 double deg(double degrees) {
   return degrees * kPi / 180;
@@ -68,15 +72,16 @@ Options start_at(double x, double y, double theta, std::uint32_t record_every = 
   return options;
 }
 
-// Decodes each A/B waveform x4 (A in bit 1; Gray order 00, 10, 11, 01 is
-// forward) clock by clock; a jump of two quarters is illegal.
+// Decodes each A/B waveform x4 (Gray order AB = 00, 10, 11, 01 is forward)
+// clock by clock; a jump of two quarters is illegal.
 class WaveformDecoder {
  public:
   void tick(TricycleSimulator& sim) {
+    // Indexed by A * 2 + B.
     static constexpr std::array<int, 4> kQuarterOfAb = {0, 3, 1, 2};
-    const auto ab = sim.tick();
+    const std::array<QuadratureLevels, kEncoderCount> ab = sim.tick();
     for (std::size_t e = 0; e < kEncoderCount; ++e) {
-      const int q = kQuarterOfAb[ab[e].value()];
+      const int q = kQuarterOfAb[(ab[e].a ? 2U : 0U) + (ab[e].b ? 1U : 0U)];
       const int step = (q - quarter_[e] + 4) % 4;
       legal_ = legal_ && step != 2;
       decoded_[e] += step == 1 ? 1 : step == 3 ? -1 : 0;
@@ -110,7 +115,7 @@ void expect_pose_near(const Pose& actual, const Pose& expected, double tolerance
 }
 
 // Edges of a wheel rolling `metres` without slip: metres / (2 pi R) * 4 N G.
-double edges_for(const odoloc::sim::WheelEncoder& w, double metres) {
+double edges_for(const odoloc::world::WheelEncoder& w, double metres) {
   return metres / (2 * kPi * w.true_radius_m) * 4 * w.lines * w.gear;
 }
 
@@ -376,7 +381,7 @@ TEST(Tricycle, BumpExtraLengthIsTheProfileArcLengthExcess) {
 
 struct Outcome {
   Edges edges;
-  odoloc::sim::TruePose end;
+  odoloc::world::TruePose end;
 };
 Outcome drive_straight(const Geometry& g, double distance, Disturbances disturbances) {
   TricycleSimulator sim(g, straight_path(distance, 2.0), std::move(disturbances),
@@ -409,11 +414,12 @@ TEST(Tricycle, BumpPresetsOverCountOnlyTheWheelsOnTheHump) {
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
     const Outcome bumped = drive_straight(g, distance, c.disturbances);
-    for (const Wheel w : {Wheel::kLeftRear, Wheel::kRightRear, Wheel::kFrontDrive}) {
-      const auto i = static_cast<std::size_t>(w);
-      const double over = static_cast<double>(bumped.edges[i] - flat.edges[i]);
-      EXPECT_NEAR(over, c.bumped[i] ? edges_for(g.wheel(w), extra) : 0.0, c.bumped[i] ? 1.5 : 0.0)
-          << "wheel " << i;
+    for (const Wheel w : {Wheel::kLeftRear, Wheel::kRightRear, Wheel::kFront}) {
+      const std::size_t e = index(odoloc::world::encoder(w));
+      const bool hit = c.bumped[index(w)];
+      const double over = static_cast<double>(bumped.edges[e] - flat.edges[e]);
+      EXPECT_NEAR(over, hit ? edges_for(g.wheel(w), extra) : 0.0, hit ? 1.5 : 0.0)
+          << "wheel " << index(w);
     }
     EXPECT_EQ(bumped.edges[kSteer], flat.edges[kSteer]);
     // Same pose up to rounding: the bump only adds split points to the steps.
@@ -461,7 +467,7 @@ TEST(Tricycle, DrivingBackOverABumpUnwindsItsOverCount) {
 TEST(Tricycle, SlipOverCountsByItsRatio) {
   const Geometry g;
   const double distance = 0.6;
-  const Slip slip{Wheel::kFrontDrive, 0.2, 0.5, 0.05};
+  const Slip slip{Wheel::kFront, 0.2, 0.5, 0.05};
   const Outcome flat = drive_straight(g, distance, {});
   const Outcome slipping = drive_straight(g, distance, Disturbances{.bumps = {}, .slips = {slip}});
   EXPECT_NEAR(static_cast<double>(slipping.edges[kFront] - flat.edges[kFront]),
@@ -493,10 +499,17 @@ TEST(Tricycle, RejectsInconsistentConfigurations) {
   EXPECT_THROW(TricycleSimulator(g, {{Segment::distance(0, 0, 1)}}), std::invalid_argument);
   EXPECT_THROW(TricycleSimulator(g, straight_path(1, 1), bump_under_front(0, 0.05, 0.1)),
                std::invalid_argument);  // too sharp for a 75 mm wheel
-  EXPECT_THROW(
-      TricycleSimulator(g, straight_path(1, 1),
-                        Disturbances{.bumps = {}, .slips = {{Wheel::kSteering, 0, 1, 0.1}}}),
-      std::invalid_argument);
+  // A bump or slip names a Wheel, which cannot be the steering encoder; a
+  // value outside the enum is rejected too.
+  static_assert(!std::is_convertible_v<Encoder, Wheel>);
+  const auto no_wheel = static_cast<Wheel>(odoloc::world::kWheelCount);
+  EXPECT_THROW(TricycleSimulator(g, straight_path(1, 1),
+                                 Disturbances{.bumps = {}, .slips = {{no_wheel, 0, 1, 0.1}}}),
+               std::invalid_argument);
+  EXPECT_THROW(TricycleSimulator(g, straight_path(1, 1),
+                                 Disturbances{.bumps = {{no_wheel, 0, 0.02, 0.3}}, .slips = {}}),
+               std::invalid_argument);
+  EXPECT_THROW((void)g.wheel(no_wheel), std::invalid_argument);
   EXPECT_THROW(square_path(g, 1.0, 1, deg(30)), std::invalid_argument);  // radius 0.87 m > side/2
   // 1000 m/s on a 50 mm wheel is beyond one edge per clock.
   TricycleSimulator too_fast(g, straight_path(1, 1000));

@@ -1,6 +1,6 @@
 // Ground-truth tricycle simulator. Equations and error budget:
 // docs/tricycle-simulator.md.
-#include "odoloc/sim/tricycle.hpp"
+#include "odoloc/world/tricycle.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <utility>
 
-namespace odoloc::sim {
+namespace odoloc::world {
 
 namespace {
 
@@ -21,8 +21,8 @@ void require(bool ok, const char* what) {
     throw std::invalid_argument(what);
 }
 
-std::size_t index(Wheel w) {
-  return static_cast<std::size_t>(w);
+bool is_wheel(Wheel w) {
+  return index(w) < kWheelCount;
 }
 
 // sin(x)/x without the 0/0.
@@ -105,7 +105,7 @@ void validate(const Path& path, const Geometry& g) {
 
 void validate(const Disturbances& d, const Geometry& g) {
   for (const Bump& b : d.bumps) {
-    require(b.wheel != Wheel::kSteering, "a bump needs a rolling wheel");
+    require(is_wheel(b.wheel), "a bump needs a rolling wheel");
     require(b.height_m > 0 && b.length_m > 0, "bump height and length must be positive");
     // The feet of the profile are concave with radius l^2 / (2 pi^2 h); a
     // wheel larger than that bridges them and stops following the profile.
@@ -114,7 +114,7 @@ void validate(const Disturbances& d, const Geometry& g) {
             "bump too sharp for the wheel: needs l^2 >= 2 pi^2 h R");
   }
   for (const Slip& s : d.slips) {
-    require(s.wheel != Wheel::kSteering, "slip needs a rolling wheel");
+    require(is_wheel(s.wheel), "slip needs a rolling wheel");
     require(s.start_m <= s.end_m && s.ratio > -1, "slip needs start <= end and ratio > -1");
   }
 }
@@ -127,12 +127,10 @@ const WheelEncoder& Geometry::wheel(Wheel w) const {
       return left_rear;
     case Wheel::kRightRear:
       return right_rear;
-    case Wheel::kFrontDrive:
+    case Wheel::kFront:
       return front;
-    case Wheel::kSteering:
-      break;
   }
-  throw std::invalid_argument("the steering encoder has no wheel");
+  throw std::invalid_argument("no such wheel");
 }
 
 Path straight_path(double distance_m, double speed_mps) {
@@ -170,7 +168,7 @@ Disturbances bump_under_one_rear(Wheel rear, double start_m, double height_m, do
   return {.bumps = {{rear, start_m, height_m, length_m}}, .slips = {}};
 }
 Disturbances bump_under_front(double start_m, double height_m, double length_m) {
-  return {.bumps = {{Wheel::kFrontDrive, start_m, height_m, length_m}}, .slips = {}};
+  return {.bumps = {{Wheel::kFront, start_m, height_m, length_m}}, .slips = {}};
 }
 
 TricycleSimulator::TricycleSimulator(Geometry geometry, Path path, Disturbances disturbances,
@@ -182,7 +180,7 @@ TricycleSimulator::TricycleSimulator(Geometry geometry, Path path, Disturbances 
   require(options_.clock_hz > 0 && options_.clocks_per_step > 0,
           "clock rate and clocks per step must be positive");
   step_s_ = options_.clocks_per_step / options_.clock_hz;
-  for (const Wheel w : {Wheel::kLeftRear, Wheel::kRightRear, Wheel::kFrontDrive})
+  for (const Wheel w : {Wheel::kLeftRear, Wheel::kRightRear, Wheel::kFront})
     edges_per_metre_[index(w)] = geometry_.wheel(w).true_edges_per_metre();
   for (const Bump& b : disturbances.bumps) {
     bumps_.push_back({.bump = b});
@@ -215,7 +213,7 @@ void TricycleSimulator::begin_step() {
   const bool was_driving = state_.segment < path_.segments.size();
   step_start_ = state_;
   drive(state_, step_s_, [this](double odometer, const Travel& ground) { roll(odometer, ground); });
-  exact_edges_[index(Wheel::kSteering)] = state_.steer_rad * geometry_.steering.edges_per_rad();
+  exact_edges_[index(Encoder::kSteering)] = state_.steer_rad * geometry_.steering.edges_per_rad();
 
   constexpr int kBits = QuadratureSource::kFractionBits;
   const auto clocks = static_cast<std::int64_t>(options_.clocks_per_step);
@@ -371,8 +369,8 @@ void TricycleSimulator::roll(double odometer_m, const Travel& ground) {
     if (odometer_m >= slip.start_m && odometer_m < slip.end_m)
       rolled[index(slip.wheel)] *= 1 + slip.ratio;
   }
-  for (std::size_t w = 0; w < rolled.size(); ++w)
-    exact_edges_[w] += rolled[w] * edges_per_metre_[w];
+  for (const Wheel w : {Wheel::kLeftRear, Wheel::kRightRear, Wheel::kFront})
+    exact_edges_[index(encoder(w))] += rolled[index(w)] * edges_per_metre_[index(w)];
 }
 
-}  // namespace odoloc::sim
+}  // namespace odoloc::world

@@ -1,14 +1,24 @@
 // Quadrature encoder waveform source: a 64-bit phase accumulator (NCO) whose
 // quarter cycles are the x4 edges. It knows the true edge count, so it is the
-// ground truth of benchmarks, demos and scenario tests.
+// ground truth of benchmarks, demos and scenario tests. It produces plain
+// A/B levels; the board turns them into the chip's pin type.
 #pragma once
 
+#include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 
-#include "odoloc/rtl/bits.hpp"
+namespace odoloc::world {
 
-namespace odoloc::sim {
+// The two output levels of a quadrature encoder. A leads B when moving
+// forward: over one cycle AB = 00, 10, 11, 01.
+struct QuadratureLevels {
+  bool a = false;
+  bool b = false;
+
+  friend constexpr bool operator==(const QuadratureLevels&, const QuadratureLevels&) = default;
+};
 
 class QuadratureSource {
  public:
@@ -25,15 +35,16 @@ class QuadratureSource {
     return std::ldexp(static_cast<double>(increment_), -kFractionBits);
   }
 
-  // Advances one clock; returns A/B packed with A in bit 1.
-  rtl::UInt<2> tick() {
+  // Advances one clock; returns the A/B levels after it.
+  QuadratureLevels tick() {
     phase_ += increment_;
     return level();
   }
-  [[nodiscard]] rtl::UInt<2> level() const {
+  [[nodiscard]] QuadratureLevels level() const {
     // Quarter index 0,1,2,3 -> AB = 00,10,11,01: A leads B when moving forward.
-    static constexpr std::uint8_t kAbOfQuarter[4] = {0b00, 0b10, 0b11, 0b01};
-    return rtl::UInt<2>::truncate(kAbOfQuarter[edges() & 3]);
+    static constexpr std::array<QuadratureLevels, 4> kLevelsOfQuarter = {
+        {{false, false}, {true, false}, {true, true}, {false, true}}};
+    return kLevelsOfQuarter[static_cast<std::size_t>(edges() & 3)];
   }
   // Signed x4 edges since construction (floor of the phase).
   [[nodiscard]] std::int64_t edges() const { return phase_ >> kFractionBits; }
@@ -43,4 +54,4 @@ class QuadratureSource {
   std::int64_t increment_ = 0;
 };
 
-}  // namespace odoloc::sim
+}  // namespace odoloc::world

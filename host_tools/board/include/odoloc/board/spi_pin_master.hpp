@@ -27,7 +27,7 @@
 
 #include "odoloc/rtl/bits.hpp"
 
-namespace odoloc::sim {
+namespace odoloc::board {
 
 using rtl::UInt;
 
@@ -81,4 +81,4 @@ class SpiPinMaster {
   SpiMasterConfig config_;
 };
 
-}  // namespace odoloc::sim
+}  // namespace odoloc::board

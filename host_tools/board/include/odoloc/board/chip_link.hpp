@@ -9,17 +9,18 @@
 #include <span>
 #include <vector>
 
+#include "odoloc/board/spi_pin_master.hpp"
 #include "odoloc/rtl/odoloc_chip.hpp"
 #include "odoloc/rtl/vcd.hpp"
-#include "odoloc/sim/spi_pin_master.hpp"
 #include "odoloc/sw/spi_frame.hpp"
 
-namespace odoloc::sim {
+namespace odoloc::board {
 
 class ChipLink final : public sw::SpiLink {
  public:
   // Sets the encoder pins before every clock; empty: they stay as they are.
-  using Stimulus = std::function<void(std::array<rtl::UInt<2>, rtl::kWheelCount>&)>;
+  using EncoderPins = decltype(rtl::ChipPins::encoders);
+  using Stimulus = std::function<void(EncoderPins&)>;
 
   explicit ChipLink(SpiMasterConfig config, Stimulus stimulus = {})
       : master_(config), stimulus_(std::move(stimulus)) {}
@@ -86,4 +87,4 @@ class ChipLink final : public sw::SpiLink {
   bool in_frame_ = false;
 };
 
-}  // namespace odoloc::sim
+}  // namespace odoloc::board

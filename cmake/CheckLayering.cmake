@@ -1,0 +1,169 @@
+# cmake -DSOURCE_DIR=<repo> [-DLINKS_FILE=<file>] -P CheckLayering.cmake
+#
+# The layering of the tree (README "What is here", docs/conventions.md):
+#
+#   rtl_model/          the C++ standard library, odoloc/rtl/..., and the
+#                       generated odoloc/regs.hpp and odoloc/ports.hpp only
+#   soc_software/       never odoloc/rtl/, odoloc/world/, odoloc/board/, odoloc/cli/
+#   host_tools/world/   the C++ standard library and odoloc/world/... only
+#   host_tools/board/   never odoloc/cli/
+#   testbenches/world/  never odoloc/rtl/, odoloc/sw/, odoloc/board/ (the
+#                       world is tested without the model)
+#
+# Every #include line of every source is checked; each violation is printed
+# as file:line and the script fails. LINKS_FILE (written at configure time by
+# testbenches/CMakeLists.txt) holds what the layer targets link, so the CMake
+# targets are checked the same way: odoloc_world links nothing but the
+# warning flags, odoloc_rtl and odoloc_sw link no host-tool target and not
+# each other.
+cmake_minimum_required(VERSION 3.25)
+
+if(NOT SOURCE_DIR)
+  message(FATAL_ERROR "CheckLayering.cmake: pass -DSOURCE_DIR=<repository root>")
+endif()
+
+set(violations 0)
+set(files_checked 0)
+
+# <angle> includes without '/' or '.' are the C++ standard library.
+function(is_standard_header kind header out)
+  if(kind STREQUAL "<" AND header MATCHES "^[a-z_0-9]+$")
+    set(${out} TRUE PARENT_SCOPE)
+  else()
+    set(${out} FALSE PARENT_SCOPE)
+  endif()
+endfunction()
+
+# check_layer(<dir> <description> [ALLOW_STD] [ALLOW <regex>...] [DENY <regex>...])
+# With ALLOW_STD or ALLOW, an include must be standard (ALLOW_STD) or match an
+# ALLOW regex; every include must match no DENY regex.
+function(check_layer dir description)
+  cmake_parse_arguments(L "ALLOW_STD" "" "ALLOW;DENY" ${ARGN})
+  file(GLOB_RECURSE sources LIST_DIRECTORIES false
+       ${SOURCE_DIR}/${dir}/*.hpp ${SOURCE_DIR}/${dir}/*.cpp ${SOURCE_DIR}/${dir}/*.h
+       ${SOURCE_DIR}/${dir}/*.c ${SOURCE_DIR}/${dir}/*.inc)
+  list(SORT sources)
+  set(count 0)
+  set(bad 0)
+  foreach(file IN LISTS sources)
+    math(EXPR count "${count} + 1")
+    file(READ ${file} text)
+    # One list element per line: neutralise what CMake lists treat specially.
+    string(REPLACE "\\" "/" text "${text}")
+    string(REPLACE ";" "," text "${text}")
+    string(REPLACE "[" "(" text "${text}")
+    string(REPLACE "]" ")" text "${text}")
+    string(REPLACE "\n" ";" lines "${text}")
+    file(RELATIVE_PATH relative ${SOURCE_DIR} ${file})
+    set(number 0)
+    foreach(line IN LISTS lines)
+      math(EXPR number "${number} + 1")
+      if(NOT line MATCHES "^[ \t]*#[ \t]*include[ \t]*([<\"])([^>\"]*)[>\"]")
+        continue()
+      endif()
+      set(kind "${CMAKE_MATCH_1}")
+      set(header "${CMAKE_MATCH_2}")
+      set(ok TRUE)
+      if(L_ALLOW_STD OR L_ALLOW)
+        set(ok FALSE)
+        if(L_ALLOW_STD)
+          is_standard_header("${kind}" "${header}" ok)
+        endif()
+        foreach(pattern IN LISTS L_ALLOW)
+          if(header MATCHES "${pattern}")
+            set(ok TRUE)
+          endif()
+        endforeach()
+      endif()
+      foreach(pattern IN LISTS L_DENY)
+        if(header MATCHES "${pattern}")
+          set(ok FALSE)
+        endif()
+      endforeach()
+      if(NOT ok)
+        if(kind STREQUAL "<")
+          set(close ">")
+        else()
+          set(close "\"")
+        endif()
+        message(NOTICE "${relative}:${number}: ${description}: #include ${kind}${header}${close}")
+        math(EXPR bad "${bad} + 1")
+      endif()
+    endforeach()
+  endforeach()
+  if(count EQUAL 0)
+    message(NOTICE "${dir}: no sources found")
+    math(EXPR bad "${bad} + 1")
+  endif()
+  math(EXPR total "${violations} + ${bad}")
+  set(violations ${total} PARENT_SCOPE)
+  math(EXPR checked "${files_checked} + ${count}")
+  set(files_checked ${checked} PARENT_SCOPE)
+endfunction()
+
+check_layer(rtl_model
+            "the model includes only the standard library, odoloc/rtl/ and the generated headers"
+            ALLOW_STD ALLOW "^odoloc/rtl/" "^odoloc/regs\\.hpp$" "^odoloc/ports\\.hpp$")
+check_layer(soc_software "the SoC software never includes the model, the world, the board or the tool"
+            DENY "^odoloc/rtl/" "^odoloc/world/" "^odoloc/board/" "^odoloc/cli/")
+check_layer(host_tools/world "the world includes only the standard library and odoloc/world/"
+            ALLOW_STD ALLOW "^odoloc/world/")
+check_layer(host_tools/board "the board never includes the host tool"
+            DENY "^odoloc/cli/")
+check_layer(testbenches/world "the world's tests never include the model, the software or the board"
+            DENY "^odoloc/rtl/" "^odoloc/sw/" "^odoloc/board/" "^odoloc/regs\\.hpp$")
+
+# The targets: what each layer links (LINK_LIBRARIES and
+# INTERFACE_LINK_LIBRARIES, $<LINK_ONLY:...> unwrapped).
+function(check_links target description)
+  cmake_parse_arguments(L "" "" "ALLOW;DENY" ${ARGN})
+  if(NOT DEFINED LINKS_${target})
+    message(NOTICE "${LINKS_FILE}: no link information for ${target}")
+    math(EXPR total "${violations} + 1")
+    set(violations ${total} PARENT_SCOPE)
+    return()
+  endif()
+  set(links)
+  foreach(link IN LISTS LINKS_${target})
+    string(REGEX REPLACE "^\\$<LINK_ONLY:(.*)>$" "\\1" link "${link}")
+    list(APPEND links "${link}")
+  endforeach()
+  list(REMOVE_DUPLICATES links)
+  set(bad 0)
+  foreach(link IN LISTS links)
+    set(ok TRUE)
+    if(L_ALLOW)
+      set(ok FALSE)
+      foreach(allowed IN LISTS L_ALLOW)
+        if(link STREQUAL allowed)
+          set(ok TRUE)
+        endif()
+      endforeach()
+    endif()
+    if(link IN_LIST L_DENY)
+      set(ok FALSE)
+    endif()
+    if(NOT ok)
+      message(NOTICE "target ${target}: ${description}: links ${link}")
+      math(EXPR bad "${bad} + 1")
+    endif()
+  endforeach()
+  math(EXPR total "${violations} + ${bad}")
+  set(violations ${total} PARENT_SCOPE)
+endfunction()
+
+if(LINKS_FILE)
+  include(${LINKS_FILE})
+  set(host_tool_targets odoloc_world odoloc_board odoloc_cli_lib)
+  check_links(odoloc_world "the world links nothing but the warning flags"
+              ALLOW odoloc_warnings)
+  check_links(odoloc_rtl "the model links no software or host-tool target"
+              DENY odoloc_sw ${host_tool_targets})
+  check_links(odoloc_sw "the SoC software links no model or host-tool target"
+              DENY odoloc_rtl ${host_tool_targets})
+endif()
+
+if(violations GREATER 0)
+  message(FATAL_ERROR "layering: ${violations} violation(s); ${files_checked} files checked")
+endif()
+message(STATUS "layering: ${files_checked} files, no violation")

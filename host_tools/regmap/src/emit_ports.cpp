@@ -1,0 +1,371 @@
+// odoloc/ports.hpp: the register file's side of the fabric, typed. Per block,
+// Config (what the hardware reads from rw registers), Pulses (one-clock
+// strobes of software writes: w1p commands, w1c clears) and Status (what the
+// hardware drives: live values, sticky flags, counters), with the generated
+// decode/encode between them and register words.
+#include <map>
+#include <sstream>
+
+#include "odoloc/regmap/regmap.hpp"
+#include "text.hpp"
+
+namespace odoloc::regmap {
+
+namespace {
+
+enum class Port : std::uint8_t { kConfig, kPulses, kStatus };
+
+bool in_port(const Field& f, Port p) {
+  switch (p) {
+    case Port::kConfig:
+      return f.access == Access::kRw && f.hw == Hw::kR;
+    case Port::kPulses:
+      return (f.access == Access::kW1c && f.hw == Hw::kSet) ||
+             (f.access == Access::kW1p && f.hw == Hw::kR);
+    case Port::kStatus:
+      return f.hw == Hw::kW || f.hw == Hw::kSet || f.hw == Hw::kCount;
+  }
+  return false;
+}
+
+const char* struct_name(Port p) {
+  switch (p) {
+    case Port::kConfig:
+      return "Config";
+    case Port::kPulses:
+      return "Pulses";
+    case Port::kStatus:
+      return "Status";
+  }
+  return "?";
+}
+
+std::string hex64(std::uint64_t v) {
+  std::ostringstream s;
+  s << "0x" << std::hex << v << "ULL";
+  return s.str();
+}
+
+std::uint64_t ones(int width) {
+  return width >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << width) - 1;
+}
+
+// (Streams, not "literal" + std::string: GCC 12 -O3 warns falsely on those.)
+std::string port_type(const Field& f) {
+  std::ostringstream o;
+  o << (f.port_signed ? "SInt<" : "UInt<") << f.port_width << ">";
+  return o.str();
+}
+
+// The port's raw bits as a std::uint64_t.
+std::string raw(const Field& f, const std::string& port) {
+  return port + (f.port_signed ? ".raw_bits()" : ".value()");
+}
+
+// The default member initialiser: the reset value.
+std::string initialiser(const Field& f) {
+  std::ostringstream o;
+  const std::uint64_t bits = f.port_reset;
+  if (!f.port_signed) {
+    o << "{" << bits << "U}";
+  } else if (((bits >> (f.port_width - 1)) & 1U) == 0) {
+    o << "{" << bits << "}";
+  } else {
+    o << "{" << port_type(f) << "::truncate(static_cast<std::int64_t>("
+      << hex64(bits | ~ones(f.port_width)) << "))}";
+  }
+  return o.str();
+}
+
+// One register as the hardware sees it: a one-word register, or both words
+// of a wide one; `fields` holds one slice per port (the first found).
+struct Group {
+  std::string name;
+  std::vector<const Register*> words;
+  std::vector<const Field*> ports;
+};
+
+std::vector<Group> groups(const Block& b) {
+  std::vector<Group> out;
+  for (const Register& r : b.registers) {
+    if (r.word == 0)
+      out.push_back({r.port_name(), {}, {}});
+    Group& g = out.back();
+    g.words.push_back(&r);
+    for (const Field& f : r.fields) {
+      bool seen = false;
+      for (const Field* p : g.ports)
+        seen = seen || p->name == f.name;
+      if (!seen)
+        g.ports.push_back(&f);
+    }
+  }
+  return out;
+}
+
+bool has(const Group& g, Port p) {
+  for (const Field* f : g.ports) {
+    if (in_port(*f, p))
+      return true;
+  }
+  return false;
+}
+
+bool has(const Register& r, Port p) {
+  for (const Field& f : r.fields) {
+    if (in_port(f, p))
+      return true;
+  }
+  return false;
+}
+
+void emit_struct(std::ostringstream& o, const Block& b, Port p) {
+  const std::string name = struct_name(p);
+  o << "struct " << name << " {\n";
+  const auto gs = groups(b);
+  for (const Group& g : gs) {
+    if (!has(g, p))
+      continue;
+    const std::string type = camel(g.name) + "Reg";
+    o << "  struct " << type << " {\n";
+    for (const Field* f : g.ports) {
+      if (in_port(*f, p)) {
+        o << "    " << port_type(*f) << " " << f->name
+          << (p == Port::kPulses ? std::string("{}") : initialiser(*f)) << ";\n";
+      }
+    }
+    o << "    bool operator==(const " << type << "&) const = default;\n"
+      << "    template <class F>\n    constexpr void for_each_field(F&& f) const {\n";
+    for (const Field* f : g.ports) {
+      if (in_port(*f, p))
+        o << "      f(std::string_view{\"" << f->name << "\"}, " << f->name << ");\n";
+    }
+    o << "    }\n  } " << g.name << ";\n";
+  }
+  o << "  bool operator==(const " << name << "&) const = default;\n"
+    << "  // Calls f(name, member) for every register (rtl/fields.hpp's field list).\n"
+    << "  template <class F>\n  constexpr void for_each_field([[maybe_unused]] F&& f) const {\n";
+  for (const Group& g : gs) {
+    if (has(g, p))
+      o << "    f(std::string_view{\"" << g.name << "\"}, " << g.name << ");\n";
+  }
+  o << "  }\n"
+    << "  // Calls v(register, field, port) for every port.\n"
+    << "  template <class Self, class V>\n"
+    << "  static constexpr void for_each_port([[maybe_unused]] Self& self, "
+       "[[maybe_unused]] V&& v) {\n";
+  for (const Group& g : gs) {
+    for (const Field* f : g.ports) {
+      if (in_port(*f, p)) {
+        o << "    v(std::string_view{\"" << g.name << "\"}, std::string_view{\"" << f->name
+          << "\"}, self." << g.name << "." << f->name << ");\n";
+      }
+    }
+  }
+  o << "  }\n};\n\n";
+}
+
+void emit_block_functions(std::ostringstream& o, const Block& b) {
+  const std::string ns = "regs::" + b.name + "::";
+  // decode_config
+  o << "// Sets the Config ports of the rw register at `offset` from its stored word.\n"
+    << "constexpr void decode_config(std::uint16_t offset, [[maybe_unused]] std::uint32_t word,\n"
+    << "                             [[maybe_unused]] Config& c) {\n  switch (offset) {\n";
+  for (const Register& r : b.registers) {
+    if (!has(r, Port::kConfig))
+      continue;
+    o << "    case " << ns << r.name << "::kOffset:\n";
+    for (const Field& f : r.fields) {
+      if (!in_port(f, Port::kConfig))
+        continue;
+      const std::string port = "c." + r.port_name() + "." + f.name;
+      const std::string get = ns + r.name + "::" + f.name + ".get(word)";
+      o << "      " << port << " = UInt<" << f.port_width << ">::truncate(";
+      if (r.wide.empty()) {
+        o << get;
+      } else {
+        const std::uint64_t mask = ones(f.width()) << f.port_shift;
+        o << "(" << raw(f, port) << " & " << hex64(~mask & ones(f.port_width))
+          << ") | (std::uint64_t{" << get << "}";
+        if (f.port_shift != 0)
+          o << " << " << f.port_shift;
+        o << ")";
+      }
+      o << ")" << (f.port_signed ? ".as_sint()" : "") << ";\n";
+    }
+    o << "      return;\n";
+  }
+  o << "    default:\n      return;\n  }\n}\n\n";
+  // decode_pulses
+  o << "// Raises the Pulses of the register at `offset` for the 1 bits of a written\n"
+    << "// word (w1p commands, w1c clears); leaves the other pulses as they are.\n"
+    << "constexpr void decode_pulses(std::uint16_t offset, [[maybe_unused]] std::uint32_t ones,\n"
+    << "                             [[maybe_unused]] Pulses& p) {\n  switch (offset) {\n";
+  for (const Register& r : b.registers) {
+    if (!has(r, Port::kPulses))
+      continue;
+    o << "    case " << ns << r.name << "::kOffset:\n";
+    for (const Field& f : r.fields) {
+      if (!in_port(f, Port::kPulses))
+        continue;
+      const std::string port = "p." + r.port_name() + "." + f.name;
+      o << "      " << port << " = " << port << " | UInt<" << f.width() << ">::truncate(" << ns
+        << r.name << "::" << f.name << ".get(ones));\n";
+    }
+    o << "      return;\n";
+  }
+  o << "    default:\n      return;\n  }\n}\n\n";
+  // encode_status
+  o << "// The bits of the register word at `offset` that the hardware drives; 0\n"
+    << "// elsewhere.\n"
+    << "constexpr std::uint32_t encode_status(std::uint16_t offset, "
+       "[[maybe_unused]] const Status& s) {\n  switch (offset) {\n";
+  for (const Register& r : b.registers) {
+    if (!has(r, Port::kStatus))
+      continue;
+    o << "    case " << ns << r.name << "::kOffset: {\n      std::uint32_t w = 0;\n";
+    for (const Field& f : r.fields) {
+      if (!in_port(f, Port::kStatus))
+        continue;
+      const std::string port = "s." + r.port_name() + "." + f.name;
+      o << "      w = " << ns << r.name << "::" << f.name << ".set(w, static_cast<std::uint32_t>("
+        << raw(f, port);
+      if (f.port_shift != 0)
+        o << " >> " << f.port_shift;
+      o << "));\n";
+    }
+    o << "      return w;\n    }\n";
+  }
+  o << "    default:\n      return 0;\n  }\n}\n\n";
+}
+
+}  // namespace
+
+std::string emit_ports(const RegisterMap& map) {
+  std::ostringstream o;
+  o << "// Generated by odoloc_regmap_gen from regmap/odoloc.yaml. Do not edit.\n"
+    << "// The fabric's side of the register map, typed with the model's integers:\n"
+    << "// per block, Config (rw fields the hardware reads, reset values as default\n"
+    << "// initialisers), Pulses (one-clock strobes of software writes: w1p commands\n"
+    << "// and the clears of w1c flags) and Status (fields the hardware drives: live\n"
+    << "// values, sticky flags, counters); wide registers appear once, at full\n"
+    << "// width. decode_config/decode_pulses/encode_status convert between them and\n"
+    << "// register words, by block offset (per block) or by word address (whole map).\n"
+    << "#pragma once\n\n#include <array>\n#include <cstdint>\n#include <string_view>\n\n"
+    << "#include \"odoloc/regs.hpp\"\n#include \"odoloc/rtl/bits.hpp\"\n\n"
+    << "namespace odoloc::ports {\n\nusing rtl::SInt;\nusing rtl::UInt;\n\n";
+  std::vector<const Block*> blocks;
+  for (const Block& b : map.blocks) {
+    if (!b.reserved)
+      blocks.push_back(&b);
+  }
+  for (const Block* bp : blocks) {
+    const Block& b = *bp;
+    o << "// " << b.description << "\nnamespace " << b.name << " {\n\n";
+    // The register map's enums, by field name (register + field on a clash).
+    std::map<std::string, int> uses;
+    for (const Register& r : b.registers) {
+      for (const Field& f : r.fields)
+        uses[f.name] += f.enums.empty() ? 0 : 1;
+    }
+    bool any = false;
+    for (const Register& r : b.registers) {
+      for (const Field& f : r.fields) {
+        if (f.enums.empty())
+          continue;
+        const std::string alias = uses[f.name] > 1 ? camel(r.name) + camel(f.name) : camel(f.name);
+        o << "using " << alias << " = regs::" << b.name << "::" << r.name << "::" << camel(f.name)
+          << ";\n";
+        any = true;
+      }
+    }
+    if (any)
+      o << "\n";
+    for (const Port p : {Port::kConfig, Port::kPulses, Port::kStatus})
+      emit_struct(o, b, p);
+    emit_block_functions(o, b);
+    o << "}  // namespace " << b.name << "\n\n";
+  }
+
+  // Whole-map aggregates.
+  for (const Port p : {Port::kConfig, Port::kPulses, Port::kStatus}) {
+    const std::string name = struct_name(p);
+    o << "struct " << name << " {\n";
+    for (const Block* b : blocks) {
+      const std::string type = "::odoloc::ports::" + b->name + "::" + name;
+      if (b->instances.empty()) {
+        o << "  " << type << " " << b->name << ";\n";
+      } else {
+        o << "  std::array<" << type << ", regs::" << b->name << "::kInstances> " << b->name
+          << ";\n";
+      }
+    }
+    o << "  bool operator==(const " << name << "&) const = default;\n"
+      << "  // Calls f(name, member) for every block (rtl/fields.hpp's field list).\n"
+      << "  template <class F>\n  constexpr void for_each_field(F&& f) const {\n";
+    for (const Block* b : blocks)
+      o << "    f(std::string_view{\"" << b->name << "\"}, " << b->name << ");\n";
+    o << "  }\n"
+      << "  // Calls v(block, instance (-1: a single block), register, field, port).\n"
+      << "  template <class Self, class V>\n"
+      << "  static constexpr void for_each_port(Self& self, V&& v) {\n";
+    for (const Block* b : blocks) {
+      const std::string type = "::odoloc::ports::" + b->name + "::" + name;
+      const auto call = [&](const std::string& member, const std::string& instance) {
+        o << "    " << type << "::for_each_port(" << member
+          << ", [&](std::string_view r, std::string_view f, auto& port) { v(std::string_view{\""
+          << b->name << "\"}, " << instance << ", r, f, port); });\n";
+      };
+      if (b->instances.empty()) {
+        call("self." + b->name, "-1");
+      } else {
+        for (std::size_t i = 0; i < b->instances.size(); ++i)
+          call("self." + b->name + "[" + std::to_string(i) + "]", std::to_string(i));
+      }
+    }
+    o << "  }\n};\n\n";
+  }
+
+  // Whole-map functions: dispatch by word address to the block functions.
+  const auto dispatch = [&](Port p, const std::string& signature, const std::string& call,
+                            const std::string& arg, const std::string& fallback) {
+    o << signature << " {\n  switch (address) {\n";
+    for (const RegisterInstance& ri : flatten(map)) {
+      if (!has(*ri.reg, p))
+        continue;
+      const std::string member = ri.instance < 0
+                                     ? ri.block->name
+                                     : ri.block->name + "[" + std::to_string(ri.instance) + "]";
+      o << "    case " << hex(ri.address, 3) << ":  // " << ri.path << "\n      "
+        << (fallback.empty() ? "" : "return ") << ri.block->name << "::" << call << "("
+        << hex(ri.reg->offset) << ", " << (arg.empty() ? "" : arg + ", ")
+        << (p == Port::kConfig   ? "c."
+            : p == Port::kPulses ? "p."
+                                 : "s.")
+        << member << ");\n"
+        << (fallback.empty() ? "      return;\n" : "");
+    }
+    o << "    default:\n      return" << (fallback.empty() ? "" : " " + fallback)
+      << ";\n  }\n}\n\n";
+  };
+  o << "// Sets the Config ports of the rw register at a word address from its stored\n"
+    << "// word (a wide register's _lo word sets bits 31:0, its _hi word the rest);\n"
+    << "// other addresses: no effect.\n";
+  dispatch(Port::kConfig,
+           "constexpr void decode_config(std::uint16_t address, std::uint32_t word, Config& c)",
+           "decode_config", "word", "");
+  o << "// Raises the Pulses of a written register for the 1 bits of the written word\n"
+    << "// (w1c clear strobes, w1p pulses); leaves the others as they are.\n";
+  dispatch(Port::kPulses,
+           "constexpr void decode_pulses(std::uint16_t address, std::uint32_t ones, Pulses& p)",
+           "decode_pulses", "ones", "");
+  o << "// The bits of the register word at a word address that the hardware drives\n"
+    << "// (hw w, set and count fields); 0 elsewhere.\n";
+  dispatch(Port::kStatus,
+           "constexpr std::uint32_t encode_status(std::uint16_t address, const Status& s)",
+           "encode_status", "", "0");
+  o << "}  // namespace odoloc::ports\n";
+  return o.str();
+}
+
+}  // namespace odoloc::regmap
