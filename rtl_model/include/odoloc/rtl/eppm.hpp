@@ -378,81 +378,88 @@ class Eppm {
   using In = EppmInputs;
   using Config = EppmConfig;
 
-  // The wires into every child, from the current registers only.
+  // The wires that cross the children, from the current registers only.
   struct Wires {
-    InputConditioner::In conditioner;
-    QuadratureDecoder::In decoder;
-    PositionCounter::In counter;
-    SpeedTimebase::In timebase;
-    PulseMeter::In pulse;
-    PeriodMeter::In period;
+    UInt<2> filtered;  // conditioner -> decoder
+    SInt<2> step;      // decoder -> counter, pulse and period meters
+    bool window_end;   // timebase -> pulse meter
+    bool tick;         // timebase -> period meter
   };
-  [[nodiscard]] Wires wires(const In& in, const Config& cfg) const {
+  [[nodiscard]] Wires wires(const Config& cfg) const {
     const UInt<2> filtered = conditioner_.regs().filtered;
-    const SInt<2> step = decoder_.step(filtered, cfg.cfg.decode_mode);
-    const bool window_end = timebase_.window_end(cfg.window.clocks);
+    return {.filtered = filtered,
+            .step = decoder_.step(filtered, cfg.cfg.decode_mode),
+            .window_end = timebase_.window_end(cfg.window.clocks),
+            .tick = timebase_.tick(cfg.prescale.divider)};
+  }
+  // Each child's inputs: the wires, this module's inputs and configuration.
+  static InputConditioner::In conditioner_in(const In& in, const Config& cfg) {
+    return {.pins = cat(in.a, in.b), .filter_clocks = cfg.cfg.filter_clocks, .reset = in.reset};
+  }
+  static QuadratureDecoder::In decoder_in(const Wires& w, const In& in) {
+    return {.filtered = w.filtered,
+            .clear_phase_error = in.clear.status.phase_error,
+            .reset = in.reset};
+  }
+  static PositionCounter::In counter_in(const Wires& w, const In& in) {
+    return {.step = w.step,
+            .latch_clear = in.latch_clear,
+            .clear_carry = in.clear.status.carry,
+            .clear_borrow = in.clear.status.borrow,
+            .reset = in.reset};
+  }
+  static SpeedTimebase::In timebase_in(const In& in, const Config& cfg) {
     return {
-        .conditioner = {.pins = cat(in.a, in.b),
-                        .filter_clocks = cfg.cfg.filter_clocks,
-                        .reset = in.reset},
-        .decoder = {.filtered = filtered,
-                    .clear_phase_error = in.clear.status.phase_error,
-                    .reset = in.reset},
-        .counter = {.step = step,
-                    .latch_clear = in.latch_clear,
-                    .clear_carry = in.clear.status.carry,
-                    .clear_borrow = in.clear.status.borrow,
-                    .reset = in.reset},
-        .timebase = {.window_clocks = cfg.window.clocks,
-                     .prescale = cfg.prescale.divider,
-                     .reset = in.reset},
-        .pulse = {.step = step,
-                  .window_end = window_end,
-                  .select = cfg.cfg.speed_mode_select,
-                  .to_period_below = cfg.to_period_below.edges,
-                  .to_pulse_at = cfg.to_pulse_at.edges,
-                  .reset = in.reset},
-        .period = {.step = step,
-                   .tick = timebase_.tick(cfg.prescale.divider),
-                   .stall_ticks = cfg.stall_ticks.ticks,
-                   .clear_overflow = in.clear.status.period_overflow,
-                   .reset = in.reset},
-    };
+        .window_clocks = cfg.window.clocks, .prescale = cfg.prescale.divider, .reset = in.reset};
+  }
+  static PulseMeter::In pulse_in(const Wires& w, const In& in, const Config& cfg) {
+    return {.step = w.step,
+            .window_end = w.window_end,
+            .select = cfg.cfg.speed_mode_select,
+            .to_period_below = cfg.to_period_below.edges,
+            .to_pulse_at = cfg.to_pulse_at.edges,
+            .reset = in.reset};
+  }
+  static PeriodMeter::In period_in(const Wires& w, const In& in, const Config& cfg) {
+    return {.step = w.step,
+            .tick = w.tick,
+            .stall_ticks = cfg.stall_ticks.ticks,
+            .clear_overflow = in.clear.status.period_overflow,
+            .reset = in.reset};
   }
 
   template <Gating G = Gating::kOn, class Order = DeclarationOrder>
   void step(const In& in, const Config& cfg, const Order& order = {}) {
     // Fast path: a settled pipeline with unchanged pins and no control makes
-    // no step, so only the timebase moves, plus the period meter on a tick.
-    // Window ends take the full path: they set a strobe that unsettles.
+    // no step (the decoder's prev equals the filtered level), so only the
+    // timebase moves, plus the period meter on a tick. Window ends take the
+    // full path: they set a strobe that unsettles.
     if (G == Gating::kOn && settled_ && cat(in.a, in.b) == conditioner_.regs().filtered &&
         !timebase_.window_end(cfg.window.clocks) && (in.latch_clear | in.reset).is_zero() &&
         !any_set(in.clear)) {
-      const SpeedTimebase::In timebase_in{
-          .window_clocks = cfg.window.clocks, .prescale = cfg.prescale.divider, .reset = in.reset};
-      const PeriodMeter::In period_in{.step = SInt<2>{},
-                                      .tick = timebase_.tick(cfg.prescale.divider),
-                                      .stall_ticks = cfg.stall_ticks.ticks,
-                                      .clear_overflow = UInt<1>{},
-                                      .reset = in.reset};
-      order([&] { timebase_.commit(timebase_.eval(timebase_in)); },
-            [&] { clock_block<G>(period_, period_in); });
+      const Wires settled{.filtered = conditioner_.regs().filtered,
+                          .step = SInt<2>{},
+                          .window_end = false,
+                          .tick = timebase_.tick(cfg.prescale.divider)};
+      order([&] { clock_block<G>(timebase_, timebase_in(in, cfg)); },
+            [&] { clock_block<G>(period_, period_in(settled, in, cfg)); });
       return;
     }
-    const Wires w = wires(in, cfg);
-    order([&] { clock_block<G>(conditioner_, w.conditioner); },
-          [&] { clock_block<G>(decoder_, w.decoder); },
-          [&] { clock_block<G>(counter_, w.counter); },
-          [&] { clock_block<G>(timebase_, w.timebase); }, [&] { clock_block<G>(pulse_, w.pulse); },
-          [&] { clock_block<G>(period_, w.period); });
+    const Wires w = wires(cfg);
     ports_ = in;
+    order([&] { clock_block<G>(conditioner_, conditioner_in(in, cfg)); },
+          [&] { clock_block<G>(decoder_, decoder_in(w, in)); },
+          [&] { clock_block<G>(counter_, counter_in(w, in)); },
+          [&] { clock_block<G>(timebase_, timebase_in(in, cfg)); },
+          [&] { clock_block<G>(pulse_, pulse_in(w, in, cfg)); },
+          [&] { clock_block<G>(period_, period_in(w, in, cfg)); });
     settled_ = settled();
   }
   [[nodiscard]] bool idle(const In& in, const Config& cfg) const {
-    const Wires w = wires(in, cfg);
-    return conditioner_.idle(w.conditioner) && decoder_.idle(w.decoder) &&
-           counter_.idle(w.counter) && timebase_.idle(w.timebase) && pulse_.idle(w.pulse) &&
-           period_.idle(w.period);
+    const Wires w = wires(cfg);
+    return conditioner_.idle(conditioner_in(in, cfg)) && decoder_.idle(decoder_in(w, in)) &&
+           counter_.idle(counter_in(w, in)) && timebase_.idle(timebase_in(in, cfg)) &&
+           pulse_.idle(pulse_in(w, in, cfg)) && period_.idle(period_in(w, in, cfg));
   }
   void reset_now() {
     ports_ = {};

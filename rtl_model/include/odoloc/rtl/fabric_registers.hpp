@@ -157,11 +157,12 @@ class FabricRegisters : public Registers<FabricRegistersRegs> {
     return n;
   }
 
-  // Cheap: the strobes of the slave and this block's own one-clock outputs.
-  [[nodiscard]] bool quiet(const SpiRegisterPort& spi, UInt<1> reset) const {
-    return !spi.active() && reset.is_zero() && !any_set(r_.pulses);
+  // Cheap: no strobe from the slave, no reset, none of this block's own
+  // one-clock outputs pending.
+  [[nodiscard]] bool quiet(bool spi_strobing, UInt<1> reset) const {
+    return !spi_strobing && reset.is_zero() && !any_set(r_.pulses);
   }
-  [[nodiscard]] bool idle(const In& in) const { return quiet(in.spi, in.reset); }
+  [[nodiscard]] bool idle(const In& in) const { return quiet(in.spi.active(), in.reset); }
 
   // The write_refused wire of the commit clock.
   [[nodiscard]] static UInt<1> write_refused(const SpiRegisterPort& spi) {

@@ -120,18 +120,18 @@ void trace_value(V& v, std::string_view name, const T& value) {
 }
 
 // True when any bit of any scalar in `value` is set (a strobe struct: any
-// strobe high).
+// strobe high). Branch-free, so a struct of strobes is a few ORs.
 template <class T>
-constexpr bool any_set(const T& value) {
+[[gnu::always_inline]] constexpr bool any_set(const T& value) {
   if constexpr (HasFields<T>) {
     bool any = false;
-    visit_fields(value, [&](std::string_view, const auto& m) { any = any || any_set(m); });
+    visit_fields(value, [&](std::string_view, const auto& m) { any |= any_set(m); });
     return any;
   } else if constexpr (detail::is_std_array<T>::value) {
+    bool any = false;
     for (const auto& element : value)
-      if (any_set(element))
-        return true;
-    return false;
+      any |= any_set(element);
+    return any;
   } else {
     return !value.is_zero();
   }

@@ -68,7 +68,7 @@ class OdolocChip {
                               .reset = pins.reset};
     // No SPI strobe and no pulse pending (the common case): the register
     // file is idle, the fabric's strobes are all 0 and the slave reads nothing.
-    if (G == Gating::kOn && registers_.quiet(spi_.port(), pins.reset)) {
+    if (G == Gating::kOn && registers_.quiet(spi_.strobing(), pins.reset)) {
       idle_fabric_in_.pins = pins.encoders;
       order([&] { fabric_.step<G>(idle_fabric_in_, config_, order); },
             [&] { clock_block<G>(spi_, spi_in); });

@@ -205,6 +205,10 @@ class SpiSlave : public Registers<SpiSlaveRegs> {
            r_.level_clocks.value() == UInt<3>::max_value;
   }
 
+  // Any strobe the register side acts on (SpiRegisterPort::active, without the copy).
+  [[nodiscard]] bool strobing() const {
+    return !(r_.snapshot | r_.read_strobe | r_.commit | r_.frame_end).is_zero();
+  }
   [[nodiscard]] SpiRegisterPort port() const {
     return {.snapshot = r_.snapshot,
             .read_strobe = r_.read_strobe,
