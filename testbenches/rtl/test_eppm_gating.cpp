@@ -212,8 +212,9 @@ TEST(LeafIdleContract, InputConditioner) {
       [&pins](Rng& rng) {
         if (one_in(rng, 8))
           pins = random_uint<2>(rng);
-        return InputConditioner::In{pins, UInt<8>::truncate(rng() % 5),
-                                    UInt<1>::truncate(one_in(rng, 100))};
+        return InputConditioner::In{.pins = pins,
+                                    .filter_clocks = UInt<8>::truncate(rng() % 5),
+                                    .reset = UInt<1>::truncate(one_in(rng, 100))};
       });
   EXPECT_GT(idle_share, 0.05);
 }
@@ -229,8 +230,9 @@ TEST(LeafIdleContract, QuadratureDecoder) {
       [&filtered](Rng& rng) {
         if (one_in(rng, 4))
           filtered = random_uint<2>(rng);
-        return QuadratureDecoder::In{filtered, UInt<1>::truncate(one_in(rng, 20)),
-                                     UInt<1>::truncate(one_in(rng, 100))};
+        return QuadratureDecoder::In{.filtered = filtered,
+                                     .clear_phase_error = UInt<1>::truncate(one_in(rng, 20)),
+                                     .reset = UInt<1>::truncate(one_in(rng, 100))};
       });
   EXPECT_GT(idle_share, 0.05);
 }
@@ -243,10 +245,11 @@ TEST(LeafIdleContract, PositionCounter) {
                                      random_uint<1>(rng), random_uint<1>(rng)};
       },
       [](Rng& rng) {
-        return PositionCounter::In{random_step(rng), UInt<1>::truncate(one_in(rng, 20)),
-                                   UInt<1>::truncate(one_in(rng, 40)),
-                                   UInt<1>::truncate(one_in(rng, 40)),
-                                   UInt<1>::truncate(one_in(rng, 100))};
+        return PositionCounter::In{.step = random_step(rng),
+                                   .latch_clear = UInt<1>::truncate(one_in(rng, 20)),
+                                   .clear_carry = UInt<1>::truncate(one_in(rng, 40)),
+                                   .clear_borrow = UInt<1>::truncate(one_in(rng, 40)),
+                                   .reset = UInt<1>::truncate(one_in(rng, 100))};
       });
   EXPECT_GT(idle_share, 0.05);
 }
@@ -260,8 +263,9 @@ TEST(LeafIdleContract, SpeedTimebase) {
         return SpeedTimebase::Regs{random_uint<23>(rng), random_uint<16>(rng)};
       },
       [](Rng& rng) {
-        return SpeedTimebase::In{UInt<23>::truncate(rng() % 100), UInt<16>::truncate(rng() % 10),
-                                 UInt<1>::truncate(one_in(rng, 100))};
+        return SpeedTimebase::In{.window_clocks = UInt<23>::truncate(rng() % 100),
+                                 .prescale = UInt<16>::truncate(rng() % 10),
+                                 .reset = UInt<1>::truncate(one_in(rng, 100))};
       });
 }
 
@@ -273,12 +277,12 @@ TEST(LeafIdleContract, PulseMeter) {
                                 random_uint<1>(rng)};
       },
       [](Rng& rng) {
-        return PulseMeter::In{random_step(rng),
-                              one_in(rng, 8),
-                              random_uint<2>(rng),
-                              UInt<23>::truncate(rng() % 40),
-                              UInt<23>::truncate(rng() % 60),
-                              UInt<1>::truncate(one_in(rng, 100))};
+        return PulseMeter::In{.step = random_step(rng),
+                              .window_end = one_in(rng, 8),
+                              .select = random_uint<2>(rng),
+                              .to_period_below = UInt<23>::truncate(rng() % 40),
+                              .to_pulse_at = UInt<23>::truncate(rng() % 60),
+                              .reset = UInt<1>::truncate(one_in(rng, 100))};
       });
   EXPECT_GT(idle_share, 0.05);
 }
@@ -292,9 +296,11 @@ TEST(LeafIdleContract, PeriodMeter) {
                                  random_uint<1>(rng)};
       },
       [](Rng& rng) {
-        return PeriodMeter::In{random_step(rng), one_in(rng, 4), random_uint<23>(rng),
-                               UInt<1>::truncate(one_in(rng, 20)),
-                               UInt<1>::truncate(one_in(rng, 100))};
+        return PeriodMeter::In{.step = random_step(rng),
+                               .tick = one_in(rng, 4),
+                               .stall_ticks = random_uint<23>(rng),
+                               .clear_overflow = UInt<1>::truncate(one_in(rng, 20)),
+                               .reset = UInt<1>::truncate(one_in(rng, 100))};
       });
   EXPECT_GT(idle_share, 0.05);
 }

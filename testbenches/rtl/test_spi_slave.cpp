@@ -56,14 +56,14 @@ struct Bench {
 
   UInt<1> step(UInt<1> sclk, UInt<1> cs_n, UInt<1> mosi) {
     const auto& r = slave.regs();
-    const SpiSlave::In in{sclk,
-                          cs_n,
-                          mosi,
-                          UInt<1>::truncate(crc_enable ? 1 : 0),
-                          UInt<1>::truncate(mode3 ? 1 : 0),
-                          UInt<32>{mem[r.read_address.value()]},
-                          refused,
-                          {}};
+    const SpiSlave::In in{.sclk = sclk,
+                          .cs_n = cs_n,
+                          .mosi = mosi,
+                          .crc_enable = UInt<1>::truncate(crc_enable ? 1 : 0),
+                          .spi_mode3 = UInt<1>::truncate(mode3 ? 1 : 0),
+                          .read_data = UInt<32>{mem[r.read_address.value()]},
+                          .write_refused = refused,
+                          .reset = {}};
     bool refuse = false;
     if (r.snapshot) {
       ++snapshots;
