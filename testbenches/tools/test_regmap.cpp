@@ -363,7 +363,7 @@ TEST(FabricPorts, StructsHoldExactlyTheDescribedPorts) {
       std::is_same_v<decltype(ports::Config{}.eppm[0].window.clocks), odoloc::rtl::UInt<23>>);
   static_assert(std::is_same_v<ports::eppm::DecodeMode, regs::eppm::cfg::DecodeMode>);
   static_assert(std::is_same_v<ports::odometry::Phase, regs::odometry::status::Phase>);
-  EXPECT_EQ(static_cast<unsigned>(ports::odometry::Phase::kIntegrate), 9U);
+  EXPECT_EQ(static_cast<unsigned>(ports::odometry::Phase::kThetaWait), 8U);
 }
 
 // The default initialisers are the reset values: decoding every rw

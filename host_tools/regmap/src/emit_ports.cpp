@@ -165,77 +165,77 @@ void emit_struct(std::ostringstream& o, const Block& b, Port p) {
   o << "  }\n};\n\n";
 }
 
+// One `case` per register with fields in `port`: `open` writes the case's
+// first statements, `field` one statement per field, `close` the last.
+template <class PerField, class Close>
+void emit_cases(std::ostringstream& o, const Block& b, Port port, const std::string& open,
+                PerField&& field, Close&& close) {
+  for (const Register& r : b.registers) {
+    if (!has(r, port))
+      continue;
+    o << "    case regs::" << b.name << "::" << r.name << "::kOffset:" << open;
+    for (const auto& f : r.fields)
+      if (in_port(f, port))
+        field(r, f);
+    o << close;
+  }
+}
+
 void emit_block_functions(std::ostringstream& o, const Block& b) {
   const std::string ns = "regs::" + b.name + "::";
-  // decode_config
   o << "// Sets the Config ports of the rw register at `offset` from its stored word.\n"
     << "constexpr void decode_config(std::uint16_t offset, [[maybe_unused]] std::uint32_t word,\n"
     << "                             [[maybe_unused]] Config& c) {\n  switch (offset) {\n";
-  for (const Register& r : b.registers) {
-    if (!has(r, Port::kConfig))
-      continue;
-    o << "    case " << ns << r.name << "::kOffset:\n";
-    for (const Field& f : r.fields) {
-      if (!in_port(f, Port::kConfig))
-        continue;
-      const std::string port = "c." + r.port_name() + "." + f.name;
-      const std::string get = ns + r.name + "::" + f.name + ".get(word)";
-      o << "      " << port << " = UInt<" << f.port_width << ">::truncate(";
-      if (r.wide.empty()) {
-        o << get;
-      } else {
-        const std::uint64_t mask = ones(f.width()) << f.port_shift;
-        o << "(" << raw(f, port) << " & " << hex64(~mask & ones(f.port_width))
-          << ") | (std::uint64_t{" << get << "}";
-        if (f.port_shift != 0)
-          o << " << " << f.port_shift;
-        o << ")";
-      }
-      o << ")" << (f.port_signed ? ".as_sint()" : "") << ";\n";
-    }
-    o << "      return;\n";
-  }
+  emit_cases(
+      o, b, Port::kConfig, "\n",
+      [&](const Register& r, const Field& f) {
+        const std::string port = "c." + r.port_name() + "." + f.name;
+        const std::string get = ns + r.name + "::" + f.name + ".get(word)";
+        o << "      " << port << " = UInt<" << f.port_width << ">::truncate(";
+        if (r.wide.empty()) {
+          o << get;
+        } else {
+          const std::uint64_t mask = ones(f.width()) << f.port_shift;
+          o << "(" << raw(f, port) << " & " << hex64(~mask & ones(f.port_width))
+            << ") | (std::uint64_t{" << get << "}";
+          if (f.port_shift != 0)
+            o << " << " << f.port_shift;
+          o << ")";
+        }
+        o << ")" << (f.port_signed ? ".as_sint()" : "") << ";\n";
+      },
+      "      return;\n");
   o << "    default:\n      return;\n  }\n}\n\n";
-  // decode_pulses
+
   o << "// Raises the Pulses of the register at `offset` for the 1 bits of a written\n"
     << "// word (w1p commands, w1c clears); leaves the other pulses as they are.\n"
     << "constexpr void decode_pulses(std::uint16_t offset, [[maybe_unused]] std::uint32_t ones,\n"
     << "                             [[maybe_unused]] Pulses& p) {\n  switch (offset) {\n";
-  for (const Register& r : b.registers) {
-    if (!has(r, Port::kPulses))
-      continue;
-    o << "    case " << ns << r.name << "::kOffset:\n";
-    for (const Field& f : r.fields) {
-      if (!in_port(f, Port::kPulses))
-        continue;
-      const std::string port = "p." + r.port_name() + "." + f.name;
-      o << "      " << port << " = " << port << " | UInt<" << f.width() << ">::truncate(" << ns
-        << r.name << "::" << f.name << ".get(ones));\n";
-    }
-    o << "      return;\n";
-  }
+  emit_cases(
+      o, b, Port::kPulses, "\n",
+      [&](const Register& r, const Field& f) {
+        const std::string port = "p." + r.port_name() + "." + f.name;
+        o << "      " << port << " = " << port << " | UInt<" << f.width() << ">::truncate(" << ns
+          << r.name << "::" << f.name << ".get(ones));\n";
+      },
+      "      return;\n");
   o << "    default:\n      return;\n  }\n}\n\n";
-  // encode_status
+
   o << "// The bits of the register word at `offset` that the hardware drives; 0\n"
     << "// elsewhere.\n"
     << "constexpr std::uint32_t encode_status(std::uint16_t offset, "
        "[[maybe_unused]] const Status& s) {\n  switch (offset) {\n";
-  for (const Register& r : b.registers) {
-    if (!has(r, Port::kStatus))
-      continue;
-    o << "    case " << ns << r.name << "::kOffset: {\n      std::uint32_t w = 0;\n";
-    for (const Field& f : r.fields) {
-      if (!in_port(f, Port::kStatus))
-        continue;
-      const std::string port = "s." + r.port_name() + "." + f.name;
-      o << "      w = " << ns << r.name << "::" << f.name << ".set(w, static_cast<std::uint32_t>("
-        << raw(f, port);
-      if (f.port_shift != 0)
-        o << " >> " << f.port_shift;
-      o << "));\n";
-    }
-    o << "      return w;\n    }\n";
-  }
+  emit_cases(
+      o, b, Port::kStatus, " {\n      std::uint32_t w = 0;\n",
+      [&](const Register& r, const Field& f) {
+        const std::string port = "s." + r.port_name() + "." + f.name;
+        o << "      w = " << ns << r.name << "::" << f.name << ".set(w, static_cast<std::uint32_t>("
+          << raw(f, port);
+        if (f.port_shift != 0)
+          o << " >> " << f.port_shift;
+        o << "));\n";
+      },
+      "      return w;\n    }\n");
   o << "    default:\n      return 0;\n  }\n}\n\n";
 }
 

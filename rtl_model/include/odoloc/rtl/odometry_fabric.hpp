@@ -130,21 +130,6 @@ class OdometryFabric {
            select_.idle(w.select) && integrator_.idle(w.integrator) && report_.idle(w.report);
   }
 
- private:
-  // Every child, from the wires of the current registers. Kept out of line:
-  // it runs about 40 clocks per update, and inlined it slows the common path.
-  template <Gating G, class Order>
-  [[gnu::noinline]] void step_all(const In& in, const Config& cfg, const Order& order) {
-    const Wires w = wires(in, cfg);
-    order([&] { encoders_.step<G>(w.encoders, cfg.eppm, order); },
-          [&] { clock_block<G>(sequencer_, w.sequencer); },
-          [&] { clock_block<G>(cordic_, w.cordic); }, [&] { clock_block<G>(rear_, w.rear); },
-          [&] { clock_block<G>(front_, w.front); }, [&] { clock_block<G>(select_, w.select); },
-          [&] { clock_block<G>(integrator_, w.integrator); },
-          [&] { clock_block<G>(report_, w.report); });
-  }
-
- public:
   void reset_now() {
     encoders_.reset_now();
     sequencer_.reset_now();
@@ -207,6 +192,19 @@ class OdometryFabric {
   }
 
  private:
+  // Every child, from the wires of the current registers. Kept out of line:
+  // it runs about 40 clocks per update, and inlined it slows the common path.
+  template <Gating G, class Order>
+  [[gnu::noinline]] void step_all(const In& in, const Config& cfg, const Order& order) {
+    const Wires w = wires(in, cfg);
+    order([&] { encoders_.step<G>(w.encoders, cfg.eppm, order); },
+          [&] { clock_block<G>(sequencer_, w.sequencer); },
+          [&] { clock_block<G>(cordic_, w.cordic); }, [&] { clock_block<G>(rear_, w.rear); },
+          [&] { clock_block<G>(front_, w.front); }, [&] { clock_block<G>(select_, w.select); },
+          [&] { clock_block<G>(integrator_, w.integrator); },
+          [&] { clock_block<G>(report_, w.report); });
+  }
+
   [[nodiscard]] UInt<1> phase_is(OdometryPhase p) const {
     return UInt<1>::truncate(sequencer_.in(p));
   }
