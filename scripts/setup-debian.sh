@@ -10,6 +10,9 @@ packages=(
   gtkwave      # vcd2fst: the waveform test cross-checks our VCD with GTKWave's own reader
   gnuplot-nox  # the demo's trajectory plot
   verilator    # test_rdl lints the SystemVerilog PeakRDL-regblock makes from odoloc.rdl
+  sigrok-cli   # test_cli_e2e decodes the host tool's --vcd-pins waveform with sigrok's SPI decoder
+  gcc-avr avr-libc                          # test_regmap_corpus: odoloc_regs.h with a 16-bit int
+  gcc-arm-none-eabi libnewlib-arm-none-eabi  # ... and on a Cortex-M compiler
 )
 
 missing=()

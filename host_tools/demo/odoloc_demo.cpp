@@ -1,5 +1,5 @@
 // odoloc_demo, the main job: the ground-truth tricycle drives the built-in
-// 24 m square with bumps under both rear wheels, under one rear wheel, under
+// 6 m square (22.5 m of path) with bumps under both rear wheels, under one rear wheel, under
 // the front wheel and a front-wheel slip; its encoder waveforms drive the
 // cycle-accurate odometry fabric clock by clock, once per min-select policy.
 // Prints the final pose error of each, writes the trajectories as CSV and
@@ -11,11 +11,13 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "odoloc/board/scenario_runner.hpp"
+#include "odoloc/demo/plot.hpp"
 #include "odoloc/world/scenarios.hpp"
 
 namespace {
@@ -32,6 +34,7 @@ struct Variant {
 
 constexpr std::uint64_t kRecordEveryClocks = 500'000;  // 10 ms
 
+// Throws std::runtime_error when the file cannot be written completely.
 void write_csv(const std::filesystem::path& file, const std::vector<Variant>& variants,
                const std::vector<RunResult>& results) {
   std::ofstream out(file);
@@ -51,33 +54,19 @@ void write_csv(const std::filesystem::path& file, const std::vector<Variant>& va
     }
     out << '\n';
   }
+  out.close();
+  if (!out)
+    throw std::runtime_error("cannot write " + file.string());
 }
 
-// Two panels: the trajectories, and each variant's position error over time.
-bool plot(const std::filesystem::path& dir, const std::vector<Variant>& variants) {
-  const auto script = dir / "trajectories.gp";
-  std::ofstream gp(script);
-  gp << "set terminal pngcairo size 1400,650 font ',10'\n"
-     << "set output '" << (dir / "trajectories.png").string() << "'\n"
-     << "set datafile separator ','\nset key autotitle columnhead\n"
-     << "set multiplot layout 1,2 title 'odoloc: 6 m square (rounded corners) with bumps and "
-        "slip'\n"
-     << "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'\nset grid\n"
-     << "plot 'trajectories.csv' using 2:3 with lines lt 1 lw 4 title 'ground truth'";
+// The CSV's columns per variant: x, y, error after the four truth columns.
+std::vector<odoloc::demo::PlotSeries> plot_series(const std::vector<Variant>& variants) {
+  std::vector<odoloc::demo::PlotSeries> series;
   for (std::size_t i = 0; i < variants.size(); ++i) {
-    gp << ", '' using " << 5 + 3 * i << ':' << 6 + 3 * i << " with lines lt " << i + 2 << " title '"
-       << variants[i].label << "'";
+    const int first = 5 + 3 * static_cast<int>(i);
+    series.push_back({variants[i].label, first, first + 2});
   }
-  gp << "\nset size noratio\nset xlabel 'time [s]'\nset ylabel 'position error [mm]'\n"
-     << "set logscale y\nplot ";
-  for (std::size_t i = 0; i < variants.size(); ++i) {
-    gp << (i ? ", " : "") << "'trajectories.csv' using 1:(column(" << 7 + 3 * i
-       << ")+1e-3) with lines lt " << i + 2 << " title '" << variants[i].label << "'";
-  }
-  gp << "\nunset multiplot\n";
-  gp.close();
-  const std::string command = "cd '" + dir.string() + "' && gnuplot trajectories.gp 2>/dev/null";
-  return std::system(command.c_str()) == 0;
+  return series;
 }
 
 }  // namespace
@@ -140,14 +129,24 @@ int main(int argc, char** argv) {
               static_cast<double>(clocks) / wall_s / 1e6);
 
   const std::filesystem::path dir(out_dir);
-  std::filesystem::create_directories(dir);
-  write_csv(dir / "trajectories.csv", variants, results);
-  std::printf("wrote %s\n", (dir / "trajectories.csv").string().c_str());
-  if (plot(dir, variants)) {
+  try {
+    std::filesystem::create_directories(dir);
+    write_csv(dir / "trajectories.csv", variants, results);
+    std::printf("wrote %s\n", (dir / "trajectories.csv").string().c_str());
+    const auto script = odoloc::demo::write_plot_script(
+        dir, "trajectories.csv", "trajectories.png",
+        "odoloc: 6 m square (rounded corners) with bumps and slip", plot_series(variants));
+    const odoloc::process::ProgramResult gnuplot = odoloc::demo::run_gnuplot(script);
+    if (!gnuplot.ok()) {
+      std::fprintf(stderr, "odoloc_demo: the plot failed%s:\n%s\n(script: %s)\n",
+                   gnuplot.launched ? "" : " (install gnuplot-nox)", gnuplot.message.c_str(),
+                   script.string().c_str());
+      return 1;
+    }
     std::printf("wrote %s\n", (dir / "trajectories.png").string().c_str());
-  } else {
-    std::printf("gnuplot not found: plot with  cd %s && gnuplot trajectories.gp\n",
-                dir.string().c_str());
+  } catch (const std::exception& e) {  // filesystem or write errors
+    std::fprintf(stderr, "odoloc_demo: %s\n", e.what());
+    return 1;
   }
   return 0;
 }

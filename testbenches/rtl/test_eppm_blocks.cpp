@@ -239,6 +239,46 @@ TEST(EppmCounter, IncrementsSumToTheTruthAtFullRate) {
   EXPECT_EQ(tb.dut.decoder().error_count.value(), 0U);
 }
 
+// A mirrored wheel's encoder turns the other way for the same motion: its
+// quadrature sequence is the twin's with A and B exchanged. With cfg.reverse
+// it counts like the twin: every count, the speed word and the direction
+// bits, in every decode mode, across a reversal.
+TEST(EppmReverse, AMirroredWheelCountsLikeItsTwin) {
+  for (const unsigned mode : {0U, 1U, 2U}) {
+    EppmBench twin, mirrored;
+    twin.cfg.cfg.decode_mode = mirrored.cfg.cfg.decode_mode = UInt<2>{mode};
+    mirrored.cfg.cfg.reverse = UInt<1>{1};
+    QuadratureSource wheel{0.013};
+    for (int i = 0; i < 300'000; ++i) {
+      if (i == 150'000)
+        wheel.set_rate(-0.004);
+      const auto levels = wheel.tick();
+      twin.set_pins(static_cast<unsigned>(odoloc::board::encoder_pins(levels).value()));
+      mirrored.set_pins(static_cast<unsigned>(
+          odoloc::board::encoder_pins({.a = levels.b, .b = levels.a}).value()));
+      twin.clock();
+      mirrored.clock();
+      ASSERT_EQ(mirrored.count(), twin.count()) << "mode " << mode << " clock " << i;
+      ASSERT_EQ(mirrored.dut.status(mirrored.cfg), twin.dut.status(twin.cfg))
+          << "mode " << mode << " clock " << i;
+    }
+    EXPECT_GT(twin.count(), 100) << mode;  // it moved (1950 x4 edges out, 600 back)
+  }
+}
+
+// Without reverse the same mirrored wheel counts backwards: the bit matters.
+TEST(EppmReverse, WithoutTheBitAMirroredWheelCountsBackwards) {
+  EppmBench mirrored;
+  QuadratureSource wheel{0.013};
+  for (int i = 0; i < 10'000; ++i) {
+    const auto levels = wheel.tick();
+    mirrored.set_pins(
+        static_cast<unsigned>(odoloc::board::encoder_pins({.a = levels.b, .b = levels.a}).value()));
+    mirrored.clock();
+  }
+  EXPECT_LT(mirrored.count(), -100);
+}
+
 TEST(EppmReset, SynchronousResetClearsEveryRegister) {
   EppmBench tb;
   QuadratureSource source{0.1};

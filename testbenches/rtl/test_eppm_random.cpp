@@ -232,9 +232,9 @@ TEST_P(EppmRandom, MatchesReferenceEveryClock) {
     const auto speed = dut.status(cfg).speed;
     const auto want = exp.speed_after(k);
     ASSERT_EQ(std::tuple(speed.value.value(), speed.mode.value(), speed.valid.value(),
-                         speed.stalled.value()),
-              std::tuple(want.value, want.pulse_mode, want.valid, want.stalled))
-        << where() << " (speed value, mode, valid, stalled)";
+                         speed.stalled.value(), speed.bound.value()),
+              std::tuple(want.value, want.pulse_mode, want.valid, want.stalled, want.bound))
+        << where() << " (speed value, mode, valid, stalled, bound)";
   }
   // Non-vacuity: a full-length run reaches what it was designed for.
   const auto ever = [&](auto pred) {

@@ -3,7 +3,9 @@
 // reversals, stall and overflow.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <deque>
 #include <vector>
 
 #include "eppm_bench.hpp"
@@ -221,6 +223,135 @@ TEST(EppmSpeed, StallReadsZeroAfterExactlyStallTicks) {
     tb.run(source, 1);
   EXPECT_FALSE(tb.dut.status(tb.cfg).speed.valid);
   EXPECT_FALSE(tb.dut.status(tb.cfg).speed.stalled);
+}
+
+// The speed word as signed edges per second (pulse: edges per window over
+// the window; period: the reference rate over the ticks per edge).
+double edges_per_second(const EppmBench& tb) {
+  const auto speed = tb.dut.status(tb.cfg).speed;
+  const double value = static_cast<double>(speed.value.value());
+  if (value == 0.0)
+    return 0.0;
+  if (speed.mode.value() == odoloc::rtl::encoding(SpeedMode::kPulse))
+    return value / (window_of(tb) / kClockHz);
+  return kClockHz / (static_cast<double>(tb.cfg.prescale.divider.value()) + 1.0) / value;
+}
+
+// A moving wheel whose edges come faster than one reference tick apart never
+// reads as standing still: the period saturates at one tick, flagged as a
+// bound. Field report: prescale 4999 (10 kHz) and an edge every 4000 clocks
+// read 0 once in five; the default prescale did the same above 1 M edges/s.
+TEST(EppmSpeed, EdgesWithinOneTickReadTheShortestPeriodNotStandstill) {
+  struct Case {
+    unsigned prescale;
+    double edges_per_clock;
+  };
+  for (const Case c : {Case{4999, 1.0 / 4000}, Case{49, 0.03}, Case{49, -0.03}}) {
+    EppmBench tb;
+    select(tb, SpeedModeSelect::kPeriod);
+    tb.cfg.prescale.divider = UInt<16>{c.prescale};
+    QuadratureSource source{c.edges_per_clock};
+    tb.run(source, 100'000);
+    unsigned bounded = 0;
+    for (int i = 0; i < 400'000; ++i) {
+      tb.run(source, 1);
+      const auto speed = tb.dut.status(tb.cfg).speed;
+      ASSERT_TRUE(speed.valid) << i;
+      ASSERT_NE(speed.value.value(), 0) << "prescale " << c.prescale << " clock " << i;
+      ASSERT_EQ(speed.value.value() > 0, c.edges_per_clock > 0);
+      if (tb.dut.period().last.is_zero()) {
+        EXPECT_EQ(std::abs(speed.value.value()), 1);
+        EXPECT_TRUE(speed.bound);
+        ++bounded;
+      }
+    }
+    EXPECT_GT(bounded, 0U) << c.prescale;  // the case happened
+  }
+}
+
+// After the wheel stops the reading decays toward zero: once the time since
+// the last edge exceeds the last period, at most one edge per elapsed time.
+// Field report: automatic mode, 500 k edges/s for 15 ms, then the pins freeze:
+// 2, 10, 40 and 49 ms later the meter still read the old speed.
+TEST(EppmSpeed, AfterAStopTheReadingDecaysWithTheTimeSinceTheLastEdge) {
+  for (const double rate : {0.01, -0.01}) {  // 500 k edges/s, both directions
+    EppmBench tb;
+    QuadratureSource source{rate};
+    tb.run(source, 750'000);  // 15 ms
+    source.set_rate(0.0);
+    const std::int64_t edges_at_stop = source.edges();
+    double previous = std::abs(edges_per_second(tb));
+    std::uint64_t since_stop = 0;
+    for (const double ms : {2.0, 10.0, 40.0, 49.0}) {
+      const auto until = static_cast<std::uint64_t>(ms * 1e-3 * kClockHz);
+      for (; since_stop < until; ++since_stop) {
+        tb.run(source, 1);
+        const double now = std::abs(edges_per_second(tb));
+        ASSERT_LE(now, previous * (1 + 1e-12) + 1e-9) << "clock " << since_stop;  // never rises
+        previous = now;
+      }
+      ASSERT_EQ(source.edges(), edges_at_stop);
+      const auto speed = tb.dut.status(tb.cfg).speed;
+      ASSERT_FALSE(speed.stalled) << ms;
+      // At most one edge in the time since the last edge (within a tick).
+      const double elapsed_s = static_cast<double>(since_stop) / kClockHz;
+      EXPECT_LE(std::abs(edges_per_second(tb)), 1.0 / (elapsed_s - 2e-6)) << ms << " ms";
+      EXPECT_TRUE(speed.bound) << ms << " ms";
+      EXPECT_EQ(speed.value.value() > 0, rate > 0) << ms << " ms";
+    }
+  }
+}
+
+// Over a start, a ramp through the automatic mode switch and a stop, in both
+// directions, against the true edge rate: the sign is the motion's, a moving
+// wheel never reads zero, and no reading exceeds the fastest true rate of the
+// last stall time by more than the quantisation of its mode.
+TEST(EppmSpeed, StartRampAndStopTrackTheTrueSpeedInBothDirections) {
+  for (const double direction : {1.0, -1.0}) {
+    EppmBench tb;
+    tb.cfg.stall_ticks.ticks = UInt<23>{20'000};  // 20 ms
+    QuadratureSource source;
+    const double top = 0.004;              // 200 k edges/s: pulse mode
+    const std::uint64_t ramp = 5'000'000;  // 100 ms up, 100 ms down
+    // The true rates of the last 20 ms (the stall time: no measurement the
+    // meter still shows is older), sampled every 1000 clocks.
+    std::deque<double> recent;
+    std::uint64_t last_edge = 0;
+    for (std::uint64_t k = 0; k < 2 * ramp + 1'500'000; ++k) {
+      const double rate = k < ramp       ? top * static_cast<double>(k) / ramp
+                          : k < 2 * ramp ? top * static_cast<double>(2 * ramp - k) / ramp
+                                         : 0.0;
+      source.set_rate(direction * rate);
+      const std::int64_t edges_before = source.edges();
+      tb.run(source, 1);
+      if (source.edges() != edges_before)
+        last_edge = k;
+      if (k % 1000 != 0)
+        continue;
+      recent.push_back(rate);
+      if (recent.size() > 1000)
+        recent.pop_front();
+      const double fastest_recent = *std::max_element(recent.begin(), recent.end());
+      const auto speed = tb.dut.status(tb.cfg).speed;
+      const double read = edges_per_second(tb);
+      // A bound after a stop may read up to one edge per time since the last.
+      const double fastest_s =
+          std::max(fastest_recent * kClockHz, kClockHz / static_cast<double>(k - last_edge + 1));
+      if (read != 0.0) {
+        ASSERT_EQ(read > 0, direction > 0) << "clock " << k;
+      }
+      // Pulse: one edge per window; period: the reading is at least one tick.
+      const double quantum = speed.mode.value() == odoloc::rtl::encoding(SpeedMode::kPulse)
+                                 ? kClockHz / window_of(tb)
+                                 : fastest_s * fastest_s * 50e-6 + 1.0;
+      ASSERT_LE(std::abs(read), fastest_s + quantum) << "clock " << k;
+      // Faster than 2 edges per stall time and past the first periods: moving.
+      if (rate * kClockHz > 200 && k > 200'000 && speed.valid) {
+        ASSERT_NE(read, 0.0) << "clock " << k << " rate " << rate * kClockHz;
+      }
+    }
+    EXPECT_TRUE(tb.dut.status(tb.cfg).speed.stalled);  // and at rest it stalls
+  }
 }
 
 TEST(EppmSpeed, PeriodCounterSaturatesAndFlagsOverflow) {

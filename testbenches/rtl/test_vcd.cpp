@@ -14,6 +14,7 @@
 #include <tuple>
 #include <vector>
 
+#include "odoloc/process/run_program.hpp"
 #include "odoloc/rtl/bits.hpp"
 #include "odoloc/rtl/clocked.hpp"
 #include "odoloc/rtl/vcd.hpp"
@@ -366,16 +367,16 @@ TEST(VcdCheck, RejectsBrokenText) {
 
 // GTKWave's converter as an outside opinion on the format.
 TEST(VcdWriter, Vcd2FstAcceptsTheOutput) {
-  if (std::system("command -v vcd2fst > /dev/null 2>&1") != 0) {
+  const std::filesystem::path dir = testing::TempDir();
+  if (!odoloc::process::run_program("vcd2fst", {"--help"}, dir).launched) {
     GTEST_SKIP() << "vcd2fst (Debian package gtkwave) not on PATH";
   }
-  const std::filesystem::path dir = testing::TempDir();
   const auto vcd_path = dir / "odoloc_test_vcd.vcd";
   const auto fst_path = dir / "odoloc_test_vcd.fst";
   std::ofstream(vcd_path) << run_demo(40);
-  const std::string command =
-      "vcd2fst " + vcd_path.string() + " " + fst_path.string() + " > /dev/null 2>&1";
-  EXPECT_EQ(std::system(command.c_str()), 0);
+  const auto converted =
+      odoloc::process::run_program("vcd2fst", {vcd_path.string(), fst_path.string()}, dir);
+  EXPECT_TRUE(converted.ok()) << converted.message;
   EXPECT_GT(std::filesystem::file_size(fst_path), 0U);
   std::filesystem::remove(vcd_path);
   std::filesystem::remove(fst_path);

@@ -154,6 +154,7 @@ struct PeriodSample {
 struct SpeedWord {
   std::int64_t value;
   bool pulse_mode, valid, stalled;
+  bool bound = false;
 };
 
 struct EppmExpected {
@@ -182,8 +183,11 @@ struct EppmExpected {
       return {windows[done_windows - 1].edges, true, true, false};
     if (last == nullptr || !last->valid)
       return {0, false, false, false};
-    const auto magnitude = static_cast<std::int64_t>(last->ticks);
-    return {last->forward ? magnitude : -magnitude, false, true, false};
+    // Period mode: the last period, bounded below by the open period (the
+    // wheel has been slower than that since) and by one tick.
+    const std::uint64_t bounded = std::max<std::uint64_t>({last->ticks, ticks, 1});
+    const auto magnitude = static_cast<std::int64_t>(bounded);
+    return {last->forward ? magnitude : -magnitude, false, true, false, bounded != last->ticks};
   }
 };
 

@@ -6,9 +6,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
+#include <cctype>
 #include <cerrno>
 #include <cstring>
 #include <functional>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -186,6 +189,13 @@ TEST(CliNames, EveryRegisterAndFieldPathResolves) {
   }
 }
 
+// A bare number that is also the byte address (odoloc.rdl: 4 × word) of a
+// different register.
+bool ambiguous(std::uint32_t address) {
+  return address != 0 && address % 4 == 0 && regs::find(address / 4) != nullptr &&
+         regs::find(address / 4) != regs::find(address);
+}
+
 TEST(CliNames, AddressesInEveryBaseResolveToTheRegisterThere) {
   for (const regs::Register& r : regs::kRegisters) {
     std::string bin;
@@ -195,9 +205,79 @@ TEST(CliNames, AddressesInEveryBaseResolveToTheRegisterThere) {
          {std::to_string(r.address), fmt::format("0x{:x}", r.address),
           fmt::format("0X{:03X}", r.address), "0b" + (bin.empty() ? "0" : bin)}) {
       SCOPED_TRACE(text);
-      EXPECT_EQ(cli::resolve(text).reg, &r);
+      EXPECT_EQ(cli::resolve("w:" + text).reg, &r);
+      EXPECT_EQ(cli::resolve(fmt::format("b:0x{:x}", r.address * 4U)).reg, &r);
+      if (!ambiguous(r.address)) {
+        EXPECT_EQ(cli::resolve(text).reg, &r);
+      }
     }
   }
+}
+
+// Issue 9: 0x40 is eppm.steering.cfg as a word address and
+// eppm_left_rear.cfg as odoloc.rdl's byte address. A bare number never picks
+// one silently; w:/b: and the RDL name say which.
+TEST(CliNames, BareNumbersThatAreAlsoByteAddressesOfAnotherRegisterAreRefused) {
+  std::size_t refused = 0;
+  for (std::uint32_t a = 0; a < (std::uint32_t{1} << regs::kAddressBits) * 4; a += 4) {
+    const regs::Register* as_byte = regs::find(a / 4);
+    if (!ambiguous(a))
+      continue;
+    ++refused;
+    const std::string text = fmt::format("0x{:x}", a);
+    const std::string m = message_of([&] { (void)cli::resolve(text); });
+    EXPECT_NE(m.find("ambiguous"), std::string::npos) << m;
+    EXPECT_NE(m.find(fmt::format("is {} at word 0x{:03x}", as_byte->path, as_byte->address)),
+              std::string::npos)
+        << m;
+    if (const regs::Register* as_word = regs::find(a); as_word != nullptr) {
+      EXPECT_NE(m.find(fmt::format("word address 0x{:03x} is {}", a, as_word->path)),
+                std::string::npos)
+          << m;
+    }
+    EXPECT_NE(m.find(fmt::format("w:{} or b:{}", text, text)), std::string::npos) << m;
+    // Through a write too: nothing is written.
+    EXPECT_THROW((void)cli::parse_assignment(text + "=1"), UsageError);
+  }
+  EXPECT_GT(refused, 0U);
+  const regs::Register& left_rear_cfg = *regs::find("eppm.left_rear.cfg");
+  EXPECT_EQ(cli::resolve(fmt::format("b:0x{:x}", left_rear_cfg.address * 4U)).reg, &left_rear_cfg);
+  EXPECT_EQ(cli::resolve("B:0x000").reg, regs::find("top.id"));
+  EXPECT_NE(message_of([] { (void)cli::resolve("b:0x41"); }).find("multiple of 4"),
+            std::string::npos);
+  EXPECT_NE(message_of([] { (void)cli::resolve("b:0x1000"); }).find("out of range"),
+            std::string::npos);
+  EXPECT_THROW((void)cli::resolve("w:0x400"), UsageError);
+  EXPECT_THROW((void)cli::resolve("w:top.id"), UsageError);
+}
+
+// The names of odoloc.rdl / PeakRDL (block_instance.register) and of the C
+// header (ODOLOC_BLOCK_INSTANCE_REGISTER_ADDR) name the same register here.
+TEST(CliNames, NamesFromTheGeneratedArtefactsResolveToTheSameRegister) {
+  for (const regs::Register& r : regs::kRegisters) {
+    // eppm.left_rear.cfg -> eppm_left_rear.cfg; top.id stays top.id.
+    std::string rdl{r.path};
+    const std::size_t last = rdl.rfind('.');
+    for (std::size_t i = 0; i < last; ++i)
+      if (rdl[i] == '.')
+        rdl[i] = '_';
+    std::string macro = "ODOLOC_" + std::string{r.path} + "_ADDR";
+    for (char& c : macro)
+      c = c == '.' ? '_' : static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    for (const std::string& name : {rdl, "odoloc." + rdl, macro}) {
+      SCOPED_TRACE(name);
+      const cli::Location loc = cli::resolve(name);
+      EXPECT_EQ(loc.reg, &r);
+      EXPECT_EQ(loc.field, nullptr);
+    }
+    for (const regs::Field& f : r.fields) {
+      const cli::Location fl = cli::resolve(rdl + "." + std::string{f.name});
+      EXPECT_EQ(fl.reg, &r);
+      ASSERT_NE(fl.field, nullptr);
+      EXPECT_EQ(fl.field->name, f.name);
+    }
+  }
+  EXPECT_EQ(cli::resolve("eppm_left_rear.cfg").reg, regs::find("eppm.left_rear.cfg"));
 }
 
 TEST(CliNames, UnmappedReservedAndOutOfRangeAddressesAreClearErrors) {
@@ -399,6 +479,23 @@ TEST(CliValues, Intervals) {
   EXPECT_EQ(cli::parse_interval("10MS"), nanoseconds{10'000'000});
   for (const char* bad : {"100", "ms", "0ms", "-1s", "1h", "1.s.", "", "1 s", "99999999999s"})
     EXPECT_THROW((void)cli::parse_interval(bad), UsageError) << bad;
+  // The largest that fits, and overflows in every part of the number (issue
+  // 9: "18446744073.999999999s" wrapped to 0.29 s).
+  EXPECT_EQ(cli::parse_interval("9223372036.854775807s").count(),
+            std::numeric_limits<std::int64_t>::max());
+  for (const char* overflow :
+       {"18446744073.999999999s", "9223372036.854775808s", "18446744073709551616ns",
+        "18446744073709551615ns", "18446744073709.551616ms", "99999999999999999999999s",
+        "18446744073709551.999us"}) {
+    const std::string m = message_of([&] { (void)cli::parse_interval(overflow); });
+    EXPECT_NE(m.find("too long"), std::string::npos) << overflow << ": " << m;
+  }
+  // Below the resolution: refused, never rounded to a different time.
+  for (const char* fine : {"1.5ns", "0.0000000001s", "1.0001us"}) {
+    const std::string m = message_of([&] { (void)cli::parse_interval(fine); });
+    EXPECT_NE(m.find("resolution"), std::string::npos) << fine << ": " << m;
+  }
+  EXPECT_EQ(cli::parse_interval("1.000us").count(), 1000);
 }
 
 TEST(CliValues, CountsAndFrequencies) {
@@ -412,6 +509,19 @@ TEST(CliValues, CountsAndFrequencies) {
   EXPECT_EQ(cli::parse_frequency("1.5M"), 1'500'000U);
   for (const char* bad : {"0", "fast", "1G", "", "5000000000"})
     EXPECT_THROW((void)cli::parse_frequency(bad), UsageError) << bad;
+  // Overflow anywhere (issue 9: "18446744073709.999999M" passed as 448 kHz).
+  EXPECT_EQ(cli::parse_frequency("4294967295"), 4'294'967'295U);
+  for (const char* overflow : {"18446744073709.999999M", "4294967296", "4294967.296k",
+                               "18446744073709551616", "99999999999999999999999MHz"}) {
+    const std::string m = message_of([&] { (void)cli::parse_frequency(overflow); });
+    EXPECT_NE(m.find("too large"), std::string::npos) << overflow << ": " << m;
+  }
+  EXPECT_THROW((void)cli::parse_spidev_spec("/dev/x@18446744073709.999999M"), UsageError);
+  EXPECT_NE(message_of([] { (void)cli::parse_frequency("1.5"); }).find("finer"), std::string::npos);
+  EXPECT_EQ(cli::parse_frequency("0.5k"), 500U);
+  // Counts: a number too large for 64 bits is refused, not wrapped.
+  EXPECT_THROW((void)cli::parse_count("18446744073709551616"), UsageError);
+  EXPECT_EQ(cli::parse_count("18446744073709551615"), std::numeric_limits<std::uint64_t>::max());
 }
 
 // ---------------------------------------------------------------- targets
@@ -542,8 +652,9 @@ TEST(CliCommands, AssignmentsPickTheWriteMode) {
             cli::WriteMode::kFieldOnly);
   EXPECT_EQ(cli::parse_assignment("odometry.command.set_pose=1").mode(),
             cli::WriteMode::kFieldOnly);
-  EXPECT_EQ(cli::parse_assignment(fmt::format("0x{:x}=7", regs::top::scratch::kAddress)).target.reg,
-            regs::find("top.scratch"));
+  EXPECT_EQ(
+      cli::parse_assignment(fmt::format("w:0x{:x}=7", regs::top::scratch::kAddress)).target.reg,
+      regs::find("top.scratch"));
   for (const char* bad :
        {"top.scratch", "top.scratch=", "=5", "top.id=1", "top.id.magic=1", "top.frame_errors=0",
         "eppm.left_rear.status.forward=1", "eppm.left_rear.count=-1"})
@@ -707,8 +818,49 @@ TEST(CliRun, WatchStopsWhenInterrupted) {
         return std::make_unique<FakeTarget>(bus, waits);
       },
       &stop);
-  EXPECT_EQ(code, cli::kExitOk);
+  EXPECT_EQ(code, cli::kExitInterrupted);
   EXPECT_TRUE(out.str().empty());
+}
+
+// A target whose wait() sees Ctrl-C half way, as SimBoard and SpidevTarget do.
+class InterruptingTarget final : public cli::Target {
+ public:
+  InterruptingTarget(FakeBus& bus, std::atomic<bool>& stop) : bus_(bus), stop_(stop) {}
+  odoloc::sw::RegisterBus& bus() override { return bus_; }
+  void wait(std::chrono::nanoseconds /*interval*/) override {
+    stop_.store(true);
+    throw cli::Interrupted();
+  }
+  [[nodiscard]] std::chrono::nanoseconds elapsed() const override { return {}; }
+
+ private:
+  FakeBus& bus_;
+  std::atomic<bool>& stop_;
+};
+
+// Issue 9: an interrupted wait exited 0, a script 130. Every command ends
+// with 130 on Ctrl-C, in or out of a script.
+TEST(CliRun, CtrlCEndsEveryCommandWith130) {
+  for (const std::vector<std::string>& args :
+       std::vector<std::vector<std::string>>{{"wait", "5s"},
+                                             {"reg", "watch", "top.id"},
+                                             {"reg", "watch", "top.id", "--count", "5"},
+                                             {"script", "-"}}) {
+    SCOPED_TRACE(args.front());
+    std::atomic<bool> stop{false};
+    std::istringstream in("reg read top.id\nwait 1s\nreg write top.scratch=1\n");
+    std::ostringstream out, err;
+    FakeBus bus;
+    const int code = cli::run_cli(
+        args, {in, out, err},
+        [&](std::string_view, const cli::TargetOptions&) {
+          return std::make_unique<InterruptingTarget>(bus, stop);
+        },
+        &stop);
+    EXPECT_EQ(code, cli::kExitInterrupted) << err.str();
+    EXPECT_TRUE(err.str().empty()) << err.str();
+    EXPECT_EQ(bus.word(regs::top::scratch::kAddress), regs::top::scratch::kReset);
+  }
 }
 
 TEST(CliRun, ScriptRunsEveryLineOnOneTarget) {
@@ -748,6 +900,119 @@ TEST(CliRun, ScriptIsCheckedWholeBeforeAnythingRuns) {
   }
   EXPECT_EQ(h.run({"script", "/nonexistent-odoloc/script.txt"}), cli::kExitUsage);
   EXPECT_NE(h.err.find(std::strerror(ENOENT)), std::string::npos) << h.err;
+  // Issue 9: a directory ran as an empty script, exit 0.
+  EXPECT_EQ(h.run({"script", ::testing::TempDir()}), cli::kExitUsage);
+  EXPECT_NE(h.err.find("directory"), std::string::npos) << h.err;
+}
+
+// Issue 9: `reg watch top.id --interval 600s --count 3` ran 20 minutes of
+// CPU. Simulated time beyond kMaxSimulated per command is refused up front.
+TEST(CliRun, SimulatedTimeBeyondTheLimitIsRefusedBeforeAnythingRuns) {
+  Harness h;
+  const auto max_s = cli::kMaxSimulated.count();
+  const std::string over = fmt::format("{}.000000001s", max_s);
+  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+           {"wait", over},
+           {"reg", "watch", "top.id", "--interval", "600s", "--count", "3"},
+           {"reg", "watch", "top.id", "--interval", over},
+           {"reg", "watch", "top.id", "--interval", "1s", "--count", std::to_string(max_s + 2)},
+           {"reg", "watch", "top.id", "--interval", "1s", "--count", "18446744073709551615"},
+           {"--target", "sim:straight", "wait", over}}) {
+    SCOPED_TRACE(args.back());
+    EXPECT_EQ(h.run(args), cli::kExitUsage);
+    EXPECT_NE(h.err.find("simulated"), std::string::npos) << h.err;
+  }
+  EXPECT_EQ(h.run({"script", "-"}, "reg write top.scratch=1\nwait " + over + "\n"),
+            cli::kExitUsage);
+  EXPECT_NE(h.err.find("<stdin>:2: "), std::string::npos) << h.err;
+  EXPECT_EQ(h.opened, 0);
+  EXPECT_TRUE(h.waits.empty());
+  // At the limit it runs; on spidev (wall-clock sleeps) there is no limit
+  // (this opener never sleeps).
+  EXPECT_EQ(h.run({"wait", fmt::format("{}s", max_s)}), cli::kExitOk) << h.err;
+  EXPECT_EQ(
+      h.run({"reg", "watch", "top.id", "--interval", "1s", "--count", std::to_string(max_s + 1)}),
+      cli::kExitOk)
+      << h.err;
+  EXPECT_EQ(h.run({"-t", "spidev:/dev/spidev0.0", "wait", "600s"}), cli::kExitOk) << h.err;
+}
+
+// Output that cannot be written (a full disk behind a redirection, a
+// waveform file) is an error with exit 1, never a silent loss.
+TEST(CliRun, FailedWritesAreErrors) {
+  struct FullBuf : std::streambuf {
+    int overflow(int /*c*/) override { return traits_type::eof(); }
+  } full;
+  std::ostream out(&full);
+  std::ostringstream err;
+  FakeBus bus;
+  std::vector<std::chrono::nanoseconds> waits;
+  const cli::TargetOpener fake = [&](std::string_view, const cli::TargetOptions&) {
+    return std::make_unique<FakeTarget>(bus, waits);
+  };
+  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+           {"reg", "read", "top.id"}, {"reg", "list"}, {"--version"}, {"script", "-"}}) {
+    err.str("");
+    out.clear();
+    std::istringstream script("reg read top.id\n");
+    EXPECT_EQ(cli::run_cli(args, {script, out, err}, fake), cli::kExitBus) << args.back();
+    EXPECT_NE(err.str().find("writing standard output failed"), std::string::npos) << err.str();
+  }
+
+  struct LosingTarget final : cli::Target {
+    FakeBus& b;
+    explicit LosingTarget(FakeBus& bus) : b(bus) {}
+    odoloc::sw::RegisterBus& bus() override { return b; }
+    void wait(std::chrono::nanoseconds /*interval*/) override {}
+    [[nodiscard]] std::chrono::nanoseconds elapsed() const override { return {}; }
+    void finish() override { throw cli::FileError("writing the waveform to 'x.vcd' failed"); }
+  };
+  std::ostringstream ok;
+  const cli::TargetOpener losing = [&](std::string_view, const cli::TargetOptions&) {
+    return std::make_unique<LosingTarget>(bus);
+  };
+  for (const std::vector<std::string>& args :
+       std::vector<std::vector<std::string>>{{"reg", "read", "top.id"}, {"script", "-"}}) {
+    err.str("");
+    std::istringstream script("reg read top.id\n");
+    EXPECT_EQ(cli::run_cli(args, {script, ok, err}, losing), cli::kExitBus) << args.back();
+    EXPECT_EQ(err.str(), "odoloc: writing the waveform to 'x.vcd' failed\n");
+  }
+}
+
+TEST(CliRun, DumpFilterVersionAndNegativeWordHints) {
+  Harness h;
+  ASSERT_EQ(h.run({"reg", "dump", "--filter", "eppm.*.count"}), cli::kExitOk) << h.err;
+  EXPECT_EQ(static_cast<std::size_t>(std::ranges::count(h.out, '\n')), regs::eppm::kInstances)
+      << h.out;
+  ASSERT_EQ(h.run({"--json", "reg", "dump", "--filter", "decode_mode"}), cli::kExitOk);
+  EXPECT_EQ(json::parse(h.out)["values"].size(), regs::eppm::kInstances);
+  ASSERT_EQ(h.run({"reg", "dump", "--filter", "zzz"}), cli::kExitOk);
+  EXPECT_EQ(h.out, "no register or field matches 'zzz'\n");
+
+  const int opened = h.opened;
+  ASSERT_EQ(h.run({"--version"}), cli::kExitOk);
+  EXPECT_TRUE(h.out.starts_with("odoloc ")) << h.out;
+  EXPECT_NE(h.out.find(fmt::format("0x{:08x}", regs::top::id::kReset)), std::string::npos);
+  EXPECT_EQ(h.opened, opened);
+
+  // The hint for a negative word names the register's signed writable
+  // fields, and only those that exist.
+  for (const regs::Register& r : regs::kRegisters) {
+    if (r.access == regs::Access::kRo || r.access == regs::Access::kRc)
+      continue;
+    const std::string m = message_of([&] { (void)cli::parse_register_value(r, "-1"); });
+    std::vector<std::string> signed_rw;
+    for (const regs::Field& f : r.fields)
+      if (f.is_signed && f.access == regs::Access::kRw)
+        signed_rw.push_back(field_path(r, f));
+    if (signed_rw.empty()) {
+      EXPECT_EQ(m.find("signed field"), std::string::npos) << m;
+    } else {
+      for (const std::string& p : signed_rw)
+        EXPECT_NE(m.find(p), std::string::npos) << m;
+    }
+  }
 }
 
 TEST(CliRun, BusErrorsExitWithOneAndNameTheLine) {
@@ -771,6 +1036,25 @@ TEST(CliRun, UsageErrorsAndHelp) {
   EXPECT_NE(h.out.find("Usage"), std::string::npos);
   EXPECT_EQ(h.run({"reg", "write", "--help"}), cli::kExitOk);
   EXPECT_NE(h.out.find("NAME.FIELD=VALUE"), std::string::npos) << h.out;
+  EXPECT_EQ(h.run({"reg", "--help"}), cli::kExitOk);
+  // Issue 9: an unknown command with --help printed the general help, exit 0.
+  for (const std::vector<std::string>& args :
+       std::vector<std::vector<std::string>>{{"frobnicate", "--help"},
+                                             {"--help", "frobnicate"},
+                                             {"frobnicate", "-h"},
+                                             {"reg", "frobnicate", "--help"},
+                                             {"-t", "sim", "frobnicate", "--help"},
+                                             {"frobnicate"}}) {
+    EXPECT_EQ(h.run(args), cli::kExitUsage) << args.front();
+    EXPECT_TRUE(h.out.empty()) << h.out;
+    EXPECT_NE(h.err.find("unknown"), std::string::npos) << h.err;
+  }
+  EXPECT_EQ(h.run({"scirpt", "--help"}), cli::kExitUsage);
+  EXPECT_NE(h.err.find("did you mean script?"), std::string::npos) << h.err;
+  EXPECT_EQ(h.run({"reg", "wacth", "--help"}), cli::kExitUsage);
+  EXPECT_NE(h.err.find("did you mean watch?"), std::string::npos) << h.err;
+  EXPECT_EQ(h.run({"read", "top.id"}), cli::kExitUsage);
+  EXPECT_NE(h.err.find("did you mean reg read?"), std::string::npos) << h.err;
   EXPECT_EQ(h.opened, 0);
   // Global options may follow the subcommand.
   EXPECT_EQ(h.run({"reg", "read", "top.id", "--json"}), cli::kExitOk) << h.err;

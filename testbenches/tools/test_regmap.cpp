@@ -505,7 +505,7 @@ std::string description(const std::string& blocks, const std::string& spi = kSpi
 }
 const std::string kGoodBlock =
     "  - name: a\n    base: 0x10\n    registers:\n"
-    "      - {name: r, offset: 0, access: rw, hw: r, fields: [{name: f, bits: [7, 0], reset: "
+    "      - {name: rg, offset: 0, access: rw, hw: r, fields: [{name: f, bits: [7, 0], reset: "
     "1}]}\n";
 // One register of block a at offset 0.
 std::string one(const std::string& reg) {
@@ -538,7 +538,7 @@ TEST(RegisterMapGenerator, RejectsInconsistentDescriptions) {
           kGoodBlock +
           "  - name: b\n    base: 0x10\n    registers:\n"
           "      - {name: s, offset: 0, access: ro, hw: w, fields: [{name: f, bits: [0, 0]}]}\n"),
-      "overlaps a.r");
+      "overlaps a.rg");
   expect_rejected(
       description(kGoodBlock + "  - {name: u, base: 0x8, size: 0x10, reserved: true}\n"),
       "overlaps");
@@ -614,8 +614,8 @@ TEST(RegisterMapGenerator, RejectsIllegalHardwareAccess) {
                       "0]}, {name: g, bits: [1, 1], access: ro}]}"),
                   "r.g: access ro cannot have hw set");
   EXPECT_NO_THROW(odoloc::regmap::parse(
-      one("{name: r, offset: 0, access: w1c, hw: set, fields: [{name: f, bits: [0, 0]}, {name: g, "
-          "bits: [1, 1], access: ro, hw: w}]}")));
+      one("{name: rg, offset: 0, access: w1c, hw: set, fields: [{name: f, bits: [0, 0]}, {name: "
+          "g, bits: [1, 1], access: ro, hw: w}]}")));
   expect_rejected(one("{name: r, offset: 0, access: ro, hw: w, fields: [{name: f, bits: [0, 0], "
                       "signed: true}]}"),
                   "signed field needs at least 2 bits");

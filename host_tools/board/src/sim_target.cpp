@@ -1,6 +1,8 @@
 #include "odoloc/board/sim_target.hpp"
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -34,17 +36,42 @@ class SimTarget::Impl {
   explicit Impl(const SimTargetOptions& options)
       : link_({.half_period = checked_half_period(options.sclk_half_period)},
               make_stimulus(options.scenario)) {
-    if (options.vcd_path.empty())
-      return;
-    vcd_file_.open(options.vcd_path);
-    if (!vcd_file_)
-      throw std::invalid_argument("cannot write the waveform to '" + options.vcd_path + "'");
-    vcd_.emplace(vcd_file_);
-    link_.trace_frames(*vcd_);
+    if (!options.vcd_path.empty()) {
+      open(vcd_file_, options.vcd_path);
+      vcd_.emplace(vcd_file_);
+      link_.trace_frames(*vcd_);
+    }
+    if (!options.vcd_pins_path.empty()) {
+      open(pins_file_, options.vcd_pins_path);
+      pins_vcd_.emplace(pins_file_);
+      link_.trace_pins(*pins_vcd_);
+    }
   }
   ChipLink& link() { return link_; }
 
+  void finish() {
+    close(vcd_file_, vcd_path_);
+    close(pins_file_, pins_path_);
+  }
+
  private:
+  void open(std::ofstream& file, const std::string& path) {
+    file.open(path);
+    if (!file)
+      throw std::invalid_argument("cannot write the waveform to '" + path +
+                                  "': " + std::strerror(errno));
+    (&file == &vcd_file_ ? vcd_path_ : pins_path_) = path;
+  }
+  static void close(std::ofstream& file, const std::string& path) {
+    if (!file.is_open())
+      return;
+    errno = 0;
+    file.flush();
+    file.close();
+    if (!file)
+      throw std::runtime_error("writing the waveform to '" + path + "' failed" +
+                               (errno != 0 ? std::string{": "} + std::strerror(errno) : ""));
+  }
   static unsigned checked_half_period(unsigned half_period) {
     if (half_period < rtl::SpiSlave::kMinLevelClocks)
       throw std::invalid_argument("SCLK half period of " + std::to_string(half_period) +
@@ -71,8 +98,10 @@ class SimTarget::Impl {
 
   std::optional<world::TricycleSimulator> truth_;  // before link_: the stimulus refers to it
   ChipLink link_;
-  std::ofstream vcd_file_;
+  std::ofstream vcd_file_, pins_file_;
+  std::string vcd_path_, pins_path_;
   std::optional<rtl::VcdWriter> vcd_;  // after link_: destroyed first, flushed before the file
+  std::optional<rtl::VcdWriter> pins_vcd_;
 };
 
 SimTarget::SimTarget(const SimTargetOptions& options) : impl_(std::make_unique<Impl>(options)) {}
@@ -94,6 +123,10 @@ std::uint64_t SimTarget::clocks() const {
 
 std::chrono::nanoseconds SimTarget::elapsed() const {
   return std::chrono::nanoseconds{static_cast<std::int64_t>(clocks() * rtl::kFabricClockPeriodNs)};
+}
+
+void SimTarget::finish() {
+  impl_->finish();
 }
 
 std::vector<std::string> SimTarget::scenarios() {

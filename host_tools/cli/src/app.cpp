@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <istream>
 #include <optional>
@@ -18,7 +19,9 @@
 namespace odoloc::cli {
 namespace {
 
-constexpr int kExitInterrupted = 130;
+TargetOptions options_of(const Invocation& inv, const std::atomic<bool>* stop) {
+  return {.crc = inv.crc, .vcd = inv.vcd, .vcd_pins = inv.vcd_pins, .stop = stop};
+}
 
 struct ScriptStep {
   std::size_t line;
@@ -36,6 +39,10 @@ int guarded(const Io& io, std::string_view where, F&& body) {
   try {
     body();
     return kExitOk;
+  } catch (const Interrupted&) {
+    return kExitInterrupted;  // Ctrl-C: the shell's convention, no message
+  } catch (const FileError& e) {
+    return report(io, where, e.what(), kExitBus);
   } catch (const UsageError& e) {
     return report(io, where, e.what(), kExitUsage);
   } catch (const sw::BusError& e) {
@@ -47,7 +54,7 @@ int guarded(const Io& io, std::string_view where, F&& body) {
 
 // Every line parsed and resolved before anything runs, so a typo on line 9
 // does not leave lines 1-8 applied.
-std::vector<ScriptStep> parse_script(std::istream& in, const std::string& name) {
+std::vector<ScriptStep> parse_script(std::istream& in, const std::string& name, bool simulated) {
   std::vector<ScriptStep> steps;
   std::string text;
   for (std::size_t line = 1; std::getline(in, text); ++line) {
@@ -56,17 +63,21 @@ std::vector<ScriptStep> parse_script(std::istream& in, const std::string& name) 
       if (words.empty())
         continue;
       Invocation inv = parse_invocation(words);
-      if (inv.target_given || inv.crc || !inv.vcd.empty())
+      if (inv.target_given || inv.crc || !inv.vcd.empty() || !inv.vcd_pins.empty())
         throw UsageError(
-            "--target, --crc and --vcd choose the transport once, on the odoloc command line, "
-            "for the whole script");
+            "--target, --crc, --vcd and --vcd-pins choose the transport once, on the odoloc "
+            "command line, for the whole script");
       if (std::holds_alternative<ScriptCommand>(inv.command) && inv.help.empty())
         throw UsageError("a script cannot run another script");
+      if (simulated && inv.help.empty())
+        check_simulated(inv.command);
       steps.push_back({line, std::move(inv)});
     } catch (const UsageError& e) {
       throw UsageError(fmt::format("{}:{}: {}", name, line, e.what()));
     }
   }
+  if (in.bad())  // a directory, an I/O error: never a silently empty script
+    throw UsageError(fmt::format("cannot read script {}: {}", name, std::strerror(errno)));
   return steps;
 }
 
@@ -75,14 +86,18 @@ int run_script(const Invocation& outer, const ScriptCommand& cmd, const Io& io,
   const std::string name = cmd.file == "-" ? "<stdin>" : cmd.file;
   std::vector<ScriptStep> steps;
   int code = guarded(io, "", [&] {
+    const bool simulated = is_sim_spec(outer.target);
     if (cmd.file == "-") {
-      steps = parse_script(io.in, name);
+      steps = parse_script(io.in, name, simulated);
       return;
     }
+    std::error_code ec;
+    if (std::filesystem::is_directory(cmd.file, ec))
+      throw UsageError(fmt::format("cannot read script {}: it is a directory", cmd.file));
     std::ifstream file(cmd.file);
     if (!file)
       throw UsageError(fmt::format("cannot open script {}: {}", cmd.file, std::strerror(errno)));
-    steps = parse_script(file, name);
+    steps = parse_script(file, name, simulated);
   });
   if (code != kExitOk)
     return code;
@@ -92,8 +107,7 @@ int run_script(const Invocation& outer, const ScriptCommand& cmd, const Io& io,
     return s.invocation.help.empty() && needs_target(s.invocation.command);
   });
   if (any_target) {
-    code =
-        guarded(io, "", [&] { target = open(outer.target, {.crc = outer.crc, .vcd = outer.vcd}); });
+    code = guarded(io, "", [&] { target = open(outer.target, options_of(outer, stop)); });
     if (code != kExitOk)
       return code;
   }
@@ -109,9 +123,24 @@ int run_script(const Invocation& outer, const ScriptCommand& cmd, const Io& io,
               stop);
     });
     if (code != kExitOk)
-      return code;
+      break;
   }
-  return kExitOk;
+  if (target) {
+    const int closed = guarded(io, "", [&] { target->finish(); });
+    if (code == kExitOk)
+      code = closed;
+  }
+  return code;
+}
+
+// Standard output redirected to a file is a file the tool writes too: a
+// full disk is an error, not a silently short file.
+int check_output(const Io& io, int code) {
+  io.out.flush();
+  if (!io.out.fail())
+    return code;
+  const int failed = report(io, "", "writing standard output failed", kExitBus);
+  return code == kExitOk ? failed : code;
 }
 
 }  // namespace
@@ -122,21 +151,29 @@ int run_cli(std::span<const std::string> args, const Io& io, const TargetOpener&
   int code = guarded(io, "", [&] {
     inv = parse_invocation(args);
     check_target_spec(inv.target);
+    if (inv.help.empty() && is_sim_spec(inv.target))
+      check_simulated(inv.command);
   });
   if (code != kExitOk)
     return code;
   if (!inv.help.empty()) {
     io.out << inv.help;
-    return kExitOk;
+    return check_output(io, kExitOk);
   }
   if (const auto* script = std::get_if<ScriptCommand>(&inv.command))
-    return run_script(inv, *script, io, open, stop);
-  return guarded(io, "", [&] {
-    std::unique_ptr<Target> target;
+    return check_output(io, run_script(inv, *script, io, open, stop));
+  std::unique_ptr<Target> target;
+  code = guarded(io, "", [&] {
     if (needs_target(inv.command))
-      target = open(inv.target, {.crc = inv.crc, .vcd = inv.vcd});
+      target = open(inv.target, options_of(inv, stop));
     execute(inv.command, target.get(), io.out, inv.json, stop);
   });
+  if (target) {
+    const int closed = guarded(io, "", [&] { target->finish(); });
+    if (code == kExitOk)
+      code = closed;
+  }
+  return check_output(io, code);
 }
 
 }  // namespace odoloc::cli

@@ -18,9 +18,12 @@ namespace odoloc::cli {
 namespace {
 
 constexpr std::string_view kFooter =
-    "Global options, before or after the command: -t/--target SPEC, --json, --crc, --vcd FILE.\n"
+    "Global options, before or after the command: -t/--target SPEC, --json, --crc, --vcd FILE,\n"
+    "--vcd-pins FILE.\n"
     "Targets: sim (default), sim:SCENARIO, spidev:/dev/spidevB.C[@HZ], lcm[:URL].\n"
-    "Exit codes: 0 done, 1 bus or link error, 2 bad command, name, value, address or target.\n"
+    "Addresses are word addresses (w:0x10); b:0x40 is a byte address as in odoloc.rdl.\n"
+    "Exit codes: 0 done, 1 bus, link or file error, 2 bad command, name, value, address or\n"
+    "target, 130 Ctrl-C.\n"
     "Every run of `--target sim` starts a fresh simulated chip; `odoloc script` runs many\n"
     "commands on one. Reading an rc register (reg read, dump, watch) clears it.\n"
     "Manual: docs/host-tool.md.";
@@ -91,13 +94,15 @@ std::map<std::uint16_t, std::uint32_t> read_locations(sw::RegisterBus& bus,
 
 // A mistyped command word gets a better message than CLI11's: the first
 // words that are not options must name a command and a reg subcommand.
-void check_command_words(std::span<const std::string> args) {
+// With `for_help`, only words that are there are checked (`odoloc --help`
+// and `odoloc reg --help` are fine, `odoloc frobnicate --help` is not).
+void check_command_words(std::span<const std::string> args, bool for_help = false) {
   static const std::vector<std::string> kCommands{"reg", "script", "wait"};
   static const std::vector<std::string> kRegCommands{"list", "read", "write", "dump", "watch"};
   std::vector<std::string> words;
   for (std::size_t i = 0; i < args.size() && words.size() < 2; ++i) {
     const std::string& a = args[i];
-    if (a == "-t" || a == "--target" || a == "--vcd") {
+    if (a == "-t" || a == "--target" || a == "--vcd" || a == "--vcd-pins") {
       ++i;  // its value
       continue;
     }
@@ -111,6 +116,9 @@ void check_command_words(std::span<const std::string> args) {
                         std::string_view what) {
     if (std::ranges::find(known, word) != known.end())
       return;
+    // `odoloc read top.id`: a reg command without "reg".
+    if (&known == &kCommands && std::ranges::find(kRegCommands, word) != kRegCommands.end())
+      throw UsageError(fmt::format("unknown command '{}'; did you mean reg {}?", word, word));
     std::string expected;
     for (std::size_t i = 0; i < known.size(); ++i)
       expected += (i == 0 ? "" : i + 1 == known.size() ? " or " : ", ") + known[i];
@@ -120,10 +128,12 @@ void check_command_words(std::span<const std::string> args) {
         edit_distance(word, *best) <= 2 ? fmt::format("; did you mean {}?", *best) : std::string{};
     throw UsageError(fmt::format("unknown {} '{}'{} (expected {})", what, word, hint, expected));
   };
+  if (words.empty() && for_help)
+    return;
   if (words.empty())
     throw UsageError("no command given; expected reg, script or wait (odoloc --help for usage)");
   check(words[0], kCommands, "command");
-  if (words[0] == "reg" && words.size() == 1)
+  if (words[0] == "reg" && words.size() == 1 && !for_help)
     throw UsageError("reg needs a command: list, read, write, dump or watch");
   if (words.size() == 2)
     check(words[1], kRegCommands, "reg command");
@@ -226,8 +236,13 @@ std::vector<const regs::Register*> by_address() {
   return all;
 }
 
-void run_dump(Target& target, std::ostream& out, bool json) {
-  const std::vector<const regs::Register*> all = by_address();
+void run_dump(const DumpCommand& cmd, Target& target, std::ostream& out, bool json) {
+  std::vector<const regs::Register*> all = by_address();
+  std::erase_if(all, [&](const regs::Register* r) { return !register_matches(*r, cmd.filter); });
+  if (all.empty() && !json) {
+    out << fmt::format("no register or field matches '{}'\n", cmd.filter);
+    return;
+  }
   std::vector<std::uint16_t> addresses;
   std::size_t width = 0;
   for (const regs::Register* r : all) {
@@ -248,13 +263,16 @@ void run_dump(Target& target, std::ostream& out, bool json) {
 
 void run_watch(const WatchCommand& cmd, Target& target, std::ostream& out, bool json,
                const std::atomic<bool>* stop) {
-  const auto stopped = [stop] { return stop != nullptr && stop->load(); };
+  const auto check_stop = [stop] {
+    if (stop != nullptr && stop->load())
+      throw Interrupted();
+  };
   const std::chrono::nanoseconds t0 = target.elapsed();
   for (std::uint64_t sample = 0; cmd.count == 0 || sample < cmd.count; ++sample) {
+    check_stop();
     if (sample > 0)
-      target.wait(cmd.interval);
-    if (stopped())
-      break;
+      target.wait(cmd.interval);  // throws Interrupted on Ctrl-C
+    check_stop();
     const std::chrono::nanoseconds t = target.elapsed() - t0;
     const auto words = read_locations(target.bus(), cmd.items);
     if (json) {
@@ -271,8 +289,11 @@ void run_watch(const WatchCommand& cmd, Target& target, std::ostream& out, bool 
   }
 }
 
-void run_wait(const WaitCommand& cmd, Target& target, std::ostream& out, bool json) {
-  target.wait(cmd.duration);
+void run_wait(const WaitCommand& cmd, Target& target, std::ostream& out, bool json,
+              const std::atomic<bool>* stop) {
+  if (stop != nullptr && stop->load())
+    throw Interrupted();
+  target.wait(cmd.duration);  // throws Interrupted on Ctrl-C
   if (json)
     emit(out, {{"waited_ns", cmd.duration.count()}});
 }
@@ -349,7 +370,7 @@ std::vector<std::string> split_line(std::string_view line) {
 Invocation parse_invocation(std::span<const std::string> args) {
   Invocation inv;
   struct {
-    std::string filter, interval = "100ms", count, duration, file;
+    std::string filter, dump_filter, interval = "100ms", count, duration, file;
     std::vector<std::string> names, assignments;
   } raw;
 
@@ -364,6 +385,10 @@ Invocation parse_invocation(std::span<const std::string> args) {
   app.add_flag("--crc", inv.crc, "switch the fabric's SPI CRC-8 on (top.ctrl.crc_enable) first");
   app.add_option("--vcd", inv.vcd,
                  "sim target: write the chip's waveform of every SPI frame to this VCD file");
+  app.add_option("--vcd-pins", inv.vcd_pins,
+                 "sim target: write only the four SPI pins of every frame to this VCD file "
+                 "(for sigrok-cli and other logic-analyser software)");
+  app.set_version_flag("--version", version_text());
 
   CLI::App* reg = app.add_subcommand("reg", "list, read, write, dump and watch registers");
   reg->require_subcommand(1);
@@ -382,6 +407,8 @@ Invocation parse_invocation(std::span<const std::string> args) {
       ->required();
   CLI::App* dump = reg->add_subcommand(
       "dump", "read every mapped register in contiguous bursts (clears rc registers)");
+  dump->add_option("--filter", raw.dump_filter,
+                   "only the registers reg list --filter would list: substring or glob");
   CLI::App* watch = reg->add_subcommand("watch", "sample registers or fields, one line per sample");
   watch->add_option("NAME", raw.names, "register path, field path or word address")->required();
   watch->add_option("--interval", raw.interval,
@@ -400,12 +427,17 @@ Invocation parse_invocation(std::span<const std::string> args) {
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   try {
     app.parse(reversed);
+  } catch (const CLI::CallForVersion& e) {
+    inv.help = version_text() + "\n";
+    return inv;
   } catch (const CLI::CallForHelp& e) {
+    check_command_words(args, true);
     std::ostringstream help;
     (void)app.exit(e, help, help);
     inv.help = help.str();
     return inv;
   } catch (const CLI::CallForAllHelp& e) {
+    check_command_words(args, true);
     std::ostringstream help;
     (void)app.exit(e, help, help);
     inv.help = help.str();
@@ -426,7 +458,7 @@ Invocation parse_invocation(std::span<const std::string> args) {
       w.items.push_back(parse_assignment(a));
     inv.command = std::move(w);
   } else if (dump->parsed()) {
-    inv.command = DumpCommand{};
+    inv.command = DumpCommand{raw.dump_filter};
   } else if (watch->parsed()) {
     WatchCommand w{resolve_all(raw.names), parse_interval(raw.interval), 0};
     if (!raw.count.empty())
@@ -442,6 +474,39 @@ Invocation parse_invocation(std::span<const std::string> args) {
   return inv;
 }
 
+std::string version_text() {
+  return fmt::format("odoloc {} (register map: top.id reset 0x{:08x})", ODOLOC_VERSION,
+                     regs::top::id::kReset);
+}
+
+void check_simulated(const Command& command) {
+  using std::chrono::nanoseconds;
+  const auto refuse = [](std::string_view what, nanoseconds asked) {
+    throw UsageError(fmt::format(
+        "{} of {} s of simulated time is more than the simulated board runs in reasonable time "
+        "(at most {} s per command, about {} s of CPU); split it, or use a shorter interval",
+        what, std::chrono::duration<double>(asked).count(), kMaxSimulated.count(),
+        2 * kMaxSimulated.count()));
+  };
+  if (const auto* wait = std::get_if<WaitCommand>(&command); wait != nullptr) {
+    if (wait->duration > kMaxSimulated)
+      refuse("wait", wait->duration);
+  } else if (const auto* watch = std::get_if<WatchCommand>(&command); watch != nullptr) {
+    if (watch->interval > kMaxSimulated)
+      refuse("a watch interval", watch->interval);
+    // interval × (count − 1), without overflow.
+    if (watch->count > 1 &&
+        static_cast<std::uint64_t>(watch->interval.count()) >
+            static_cast<std::uint64_t>(nanoseconds{kMaxSimulated}.count()) / (watch->count - 1))
+      throw UsageError(fmt::format(
+          "a watch of {} samples {} s apart is more simulated time than the simulated board "
+          "runs in reasonable time (at most {} s per command); use fewer samples or a shorter "
+          "interval",
+          watch->count, std::chrono::duration<double>(watch->interval).count(),
+          kMaxSimulated.count()));
+  }
+}
+
 bool needs_target(const Command& command) {
   return !std::holds_alternative<ListCommand>(command);
 }
@@ -453,9 +518,9 @@ void execute(const Command& command, Target* target, std::ostream& out, bool jso
           [&](const ListCommand& c) { run_list(c, out, json); },
           [&](const ReadCommand& c) { run_read(c, need(target), out, json); },
           [&](const WriteCommand& c) { run_write(c, need(target), out, json); },
-          [&](const DumpCommand&) { run_dump(need(target), out, json); },
+          [&](const DumpCommand& c) { run_dump(c, need(target), out, json); },
           [&](const WatchCommand& c) { run_watch(c, need(target), out, json, stop); },
-          [&](const WaitCommand& c) { run_wait(c, need(target), out, json); },
+          [&](const WaitCommand& c) { run_wait(c, need(target), out, json, stop); },
           [&](const ScriptCommand&) { throw UsageError("a script cannot run another script"); },
       },
       command);

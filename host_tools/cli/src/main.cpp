@@ -20,8 +20,10 @@ extern "C" void on_interrupt(int /*signal*/) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // The first Ctrl-C ends `reg watch` after its current sample (and a script
-  // before its next line); SA_RESETHAND makes a second one kill the process.
+  // The first Ctrl-C sets the flag that every long-running loop polls
+  // (simulated time in slices of 1 ms, sleeps in 10 ms, watch samples, script
+  // lines): the command ends within milliseconds and the tool exits 130.
+  // SA_RESETHAND makes a second one kill the process.
   struct sigaction action {};
   action.sa_handler = on_interrupt;
   sigemptyset(&action.sa_mask);

@@ -99,6 +99,77 @@ std::string field_hint(const regs::Register& reg, std::string_view typed) {
   return fmt::format("; did you mean {}?", join_alternatives(paths));
 }
 
+// The spelling of a path in the other artefacts generated from the same
+// YAML, reduced to one key: odoloc.rdl and PeakRDL (eppm_left_rear.cfg,
+// odoloc.eppm_left_rear.cfg.decode_mode), the C header
+// (ODOLOC_EPPM_LEFT_REAR_CFG_ADDR) and the tool's own paths all become
+// "eppm_left_rear_cfg[_decode_mode]".
+std::string artefact_key(std::string_view name) {
+  std::string key;
+  for (const char c : name) {
+    const char l = c == '.' ? '_' : lower(c);
+    if (l == '_' && (key.empty() || key.back() == '_'))
+      continue;  // PeakRDL's "__" separators, leading '_'
+    key += l;
+  }
+  if (key.starts_with("odoloc_"))
+    key.erase(0, std::string_view{"odoloc_"}.size());
+  if (key.ends_with("_addr"))
+    key.erase(key.size() - std::string_view{"_addr"}.size());
+  return key;
+}
+
+// Every register and field whose artefact key is `key`.
+std::vector<Location> by_artefact_key(const std::string& key) {
+  std::vector<Location> out;
+  for (const regs::Register& r : regs::kRegisters) {
+    if (artefact_key(r.path) == key)
+      out.push_back({&r, nullptr});
+    for (const regs::Field& f : r.fields) {
+      if (artefact_key(Location{&r, &f}.path()) == key)
+        out.push_back({&r, &f});
+    }
+  }
+  return out;
+}
+
+std::string hex_address(std::uint64_t a) {
+  return fmt::format("0x{:03x}", a);
+}
+
+// "w:ADDR" and "b:ADDR", or a bare number: see resolve().
+const regs::Register& register_at_text(std::string_view text) {
+  if (text.starts_with("w:") || text.starts_with("W:"))
+    return register_at(parse_address(text.substr(2)));
+  if (text.starts_with("b:") || text.starts_with("B:"))
+    return register_at(parse_byte_address(text.substr(2)));
+  const Number n = parse_number(text);
+  const bool as_byte = !n.negative && n.magnitude != 0 && n.magnitude % 4 == 0 &&
+                       n.magnitude / 4 < kAddressSpace &&
+                       regs::find(static_cast<std::uint32_t>(n.magnitude / 4)) != nullptr;
+  if (!as_byte)
+    return register_at(parse_address(text));
+  // A bare number that is also the byte address (odoloc.rdl, PeakRDL: 4 × the
+  // word address) of a different register: which one was meant is unknowable.
+  const regs::Register& byte_reg = *regs::find(static_cast<std::uint32_t>(n.magnitude / 4));
+  const regs::Register* word_reg =
+      n.magnitude < kAddressSpace ? regs::find(static_cast<std::uint32_t>(n.magnitude)) : nullptr;
+  if (word_reg == &byte_reg)
+    return byte_reg;
+  const std::string as_word =
+      word_reg != nullptr
+          ? fmt::format("word address {} is {}", hex_address(n.magnitude), word_reg->path)
+      : n.magnitude < kAddressSpace
+          ? fmt::format("word address {} is unmapped", hex_address(n.magnitude))
+          : fmt::format("it is beyond the word addresses 0x000..{}",
+                        hex_address(kAddressSpace - 1));
+  throw UsageError(fmt::format(
+      "address {} is ambiguous: {} (odoloc's addresses, as in docs/spi.md and odoloc_regs.h), "
+      "byte address {} (odoloc.rdl, PeakRDL) is {} at word {}; write w:{} or b:{}, or the name",
+      text, as_word, hex_address(n.magnitude), byte_reg.path, hex_address(byte_reg.address), text,
+      text));
+}
+
 }  // namespace
 
 std::string Location::path() const {
@@ -118,6 +189,21 @@ std::uint16_t parse_address(std::string_view text) {
     throw UsageError(fmt::format("address {} is out of range (word addresses 0x000..0x{:03x})",
                                  text, kAddressSpace - 1));
   return static_cast<std::uint16_t>(n.magnitude);
+}
+
+std::uint16_t parse_byte_address(std::string_view text) {
+  const Number n = parse_number(text);
+  if (n.negative && n.magnitude != 0)
+    throw UsageError(fmt::format("byte address {} is negative", text));
+  if (n.magnitude % 4 != 0)
+    throw UsageError(fmt::format(
+        "byte address {} is not a multiple of 4 (registers are 32-bit words at 4 × the word "
+        "address)",
+        text));
+  if (n.magnitude / 4 >= kAddressSpace)
+    throw UsageError(fmt::format("byte address {} is out of range (byte addresses 0x000..0x{:03x})",
+                                 text, (kAddressSpace - 1) * 4));
+  return static_cast<std::uint16_t>(n.magnitude / 4);
 }
 
 const regs::Register& register_at(std::uint16_t address) {
@@ -149,8 +235,9 @@ const regs::Register& register_at(std::uint16_t address) {
 Location resolve(std::string_view name) {
   if (name.empty())
     throw UsageError("empty register name");
-  if (looks_numeric(name))
-    return {&register_at(parse_address(name)), nullptr};
+  if (looks_numeric(name) || name.starts_with("w:") || name.starts_with("W:") ||
+      name.starts_with("b:") || name.starts_with("B:"))
+    return {&register_at_text(name), nullptr};
   if (const regs::Register* r = regs::find(name))
     return {r, nullptr};
   if (const std::size_t dot = name.rfind('.'); dot != std::string_view::npos) {
@@ -162,6 +249,18 @@ Location resolve(std::string_view name) {
       }
       throw UsageError(fmt::format("unknown field '{}'{}", name, field_hint(*r, field_name)));
     }
+  }
+  // The same register as spelt in odoloc.rdl, PeakRDL's outputs or the C
+  // header: the same register here.
+  const std::vector<Location> same = by_artefact_key(artefact_key(name));
+  if (same.size() == 1)
+    return same.front();
+  if (same.size() > 1) {
+    std::vector<std::string> paths;
+    for (const Location& l : same)
+      paths.push_back(l.path());
+    throw UsageError(
+        fmt::format("'{}' is ambiguous: it could be {}", name, join_alternatives(paths)));
   }
   const std::vector<std::string> near = closest_paths(name);
   throw UsageError(fmt::format("unknown register '{}'{}", name,

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <thread>
 
 #include "odoloc/cli/errors.hpp"
@@ -15,16 +16,30 @@ namespace {
 class SpidevTarget final : public Target {
  public:
   SpidevTarget(const SpidevSpec& spec, const TargetOptions& options)
-      : link_(spec.device, spec.speed_hz), bus_(link_, {.crc = options.crc}) {}
+      : link_(spec.device, spec.speed_hz), bus_(link_, {.crc = options.crc}), stop_(options.stop) {}
   sw::RegisterBus& bus() override { return bus_; }
-  void wait(std::chrono::nanoseconds interval) override { std::this_thread::sleep_for(interval); }
+  // Sleeps in slices of 10 ms so that Ctrl-C ends the wait promptly.
+  void wait(std::chrono::nanoseconds interval) override {
+    const auto until = std::chrono::steady_clock::now() + interval;
+    for (;;) {
+      if (stop_ != nullptr && stop_->load())
+        throw Interrupted();
+      const auto now = std::chrono::steady_clock::now();
+      if (now >= until)
+        return;
+      std::this_thread::sleep_for(std::min<std::chrono::nanoseconds>(until - now, kSlice));
+    }
+  }
   [[nodiscard]] std::chrono::nanoseconds elapsed() const override {
     return std::chrono::steady_clock::now() - start_;
   }
 
  private:
+  static constexpr std::chrono::nanoseconds kSlice = std::chrono::milliseconds{10};
+
   SpidevLink link_;
   sw::SpiRegisterBus bus_;
+  const std::atomic<bool>* stop_;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
@@ -90,9 +105,13 @@ SpidevSpec parse_spidev_spec(std::string_view argument) {
 
 std::unique_ptr<Target> open_spidev_target(std::string_view argument,
                                            const TargetOptions& options) {
-  if (!options.vcd.empty())
-    throw UsageError("--vcd records the simulated chip: it needs --target sim");
+  if (!options.vcd.empty() || !options.vcd_pins.empty())
+    throw UsageError("--vcd and --vcd-pins record the simulated chip: they need --target sim");
   return std::make_unique<SpidevTarget>(parse_spidev_spec(argument), options);
+}
+
+bool is_sim_spec(std::string_view spec) {
+  return match(spec).kind->open == open_sim_target;
 }
 
 void check_target_spec(std::string_view spec) {

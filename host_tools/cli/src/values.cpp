@@ -52,14 +52,21 @@ std::string enum_list(const regs::Field& f, bool with_values) {
 }
 
 // A decimal with an optional fraction followed by a unit from `units`, as an
-// integer count of the smallest unit (fractions below it are dropped).
+// integer count of the smallest unit. Every step is checked: a value that
+// does not fit 64 bits is kOverflow, never wrapped, and a non-zero digit
+// below the smallest unit is kTooFine, never dropped.
 struct Unit {
   std::string_view suffix;
   std::uint64_t scale;
 };
 
-std::optional<std::uint64_t> parse_scaled(std::string_view text, std::span<const Unit> units,
-                                          bool unit_required) {
+struct Scaled {
+  enum Status : std::uint8_t { kOk, kSyntax, kOverflow, kTooFine };
+  Status status = kSyntax;
+  std::uint64_t value = 0;
+};
+
+Scaled parse_scaled(std::string_view text, std::span<const Unit> units, bool unit_required) {
   std::size_t i = 0;
   while (i < text.size() && is_digit(text[i]))
     ++i;
@@ -72,7 +79,7 @@ std::optional<std::uint64_t> parse_scaled(std::string_view text, std::span<const
     fraction = text.substr(start, i - start);
   }
   if (whole.empty() && fraction.empty())
-    return std::nullopt;
+    return {};
   const std::string_view suffix = text.substr(i);
   std::uint64_t scale = 0;
   for (const Unit& u : units) {
@@ -80,7 +87,7 @@ std::optional<std::uint64_t> parse_scaled(std::string_view text, std::span<const
       scale = u.scale;
   }
   if (scale == 0 && (unit_required || !suffix.empty()))
-    return std::nullopt;
+    return {};
   if (scale == 0)
     scale = 1;
   constexpr std::uint64_t kMax = std::numeric_limits<std::uint64_t>::max();
@@ -88,18 +95,26 @@ std::optional<std::uint64_t> parse_scaled(std::string_view text, std::span<const
   for (const char c : whole) {
     const auto d = static_cast<std::uint64_t>(c - '0');
     if (value > (kMax - d) / 10)
-      return std::nullopt;
+      return {Scaled::kOverflow};
     value = value * 10 + d;
   }
   if (value > kMax / scale)
-    return std::nullopt;
+    return {Scaled::kOverflow};
   value *= scale;
   std::uint64_t place = scale;
   for (const char c : fraction) {
+    const auto d = static_cast<std::uint64_t>(c - '0');
+    if (place < 10) {
+      if (d != 0)
+        return {Scaled::kTooFine};
+      continue;
+    }
     place /= 10;
-    value += static_cast<std::uint64_t>(c - '0') * place;
+    if (value > kMax - d * place)
+      return {Scaled::kOverflow};
+    value += d * place;
   }
-  return value;
+  return {Scaled::kOk, value};
 }
 
 }  // namespace
@@ -201,11 +216,18 @@ std::uint32_t parse_register_value(const regs::Register& reg, std::string_view t
         "bad value '{}' for {}: {}; enumerator names go to a field ({}.{}=...)", text, reg.path,
         not_a_number(text), reg.path, reg.fields.empty() ? "FIELD" : reg.fields.front().name));
   const Number n = parse_number(text);
-  if (n.negative && n.magnitude != 0)
+  if (n.negative && n.magnitude != 0) {
+    // Point at the register's own signed writable fields, when it has any.
+    std::string fields;
+    for (const regs::Field& f : reg.fields) {
+      if (f.is_signed && f.access == regs::Access::kRw)
+        fields += fmt::format("{}{}.{}", fields.empty() ? "" : ", ", reg.path, f.name);
+    }
     throw UsageError(fmt::format(
-        "value {} out of range for {}: a register word is 0..0x{:x}; write a signed field for a "
-        "negative value",
-        text, reg.path, kWordMax));
+        "value {} out of range for {}: a register word is 0..0x{:x}{}", text, reg.path, kWordMax,
+        fields.empty() ? std::string{"; give the bit pattern in hex"}
+                       : fmt::format("; write a negative value to its signed field ({})", fields)));
+  }
   if (n.magnitude > kWordMax)
     throw UsageError(fmt::format("value {} out of range for {} (a {}-bit word: 0..0x{:x})", text,
                                  reg.path, regs::kDataBits, kWordMax));
@@ -223,15 +245,20 @@ std::uint32_t parse_register_value(const regs::Register& reg, std::string_view t
 std::chrono::nanoseconds parse_interval(std::string_view text) {
   static constexpr Unit kUnits[] = {
       {"ns", 1}, {"us", 1'000}, {"\u00b5s", 1'000}, {"ms", 1'000'000}, {"s", 1'000'000'000}};
-  const std::optional<std::uint64_t> ns = parse_scaled(text, kUnits, true);
+  const Scaled ns = parse_scaled(text, kUnits, true);
   constexpr auto kMax = static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max());
-  if (!ns || *ns > kMax)
+  if (ns.status == Scaled::kOverflow || (ns.status == Scaled::kOk && ns.value > kMax))
+    throw UsageError(
+        fmt::format("bad interval '{}': too long (at most {} ns, about 292 years)", text, kMax));
+  if (ns.status == Scaled::kTooFine)
+    throw UsageError(fmt::format("bad interval '{}': finer than the 1 ns resolution", text));
+  if (ns.status != Scaled::kOk)
     throw UsageError(fmt::format(
         "bad interval '{}': expected a number with a unit ns, us, ms or s (e.g. 100ms, 1.5s)",
         text));
-  if (*ns == 0)
+  if (ns.value == 0)
     throw UsageError(fmt::format("bad interval '{}': must be longer than 0", text));
-  return std::chrono::nanoseconds{static_cast<std::int64_t>(*ns)};
+  return std::chrono::nanoseconds{static_cast<std::int64_t>(ns.value)};
 }
 
 std::uint64_t parse_count(std::string_view text) {
@@ -246,11 +273,17 @@ std::uint64_t parse_count(std::string_view text) {
 std::uint32_t parse_frequency(std::string_view text) {
   static constexpr Unit kUnits[] = {{"", 1},        {"hz", 1},        {"k", 1'000},
                                     {"khz", 1'000}, {"m", 1'000'000}, {"mhz", 1'000'000}};
-  const std::optional<std::uint64_t> hz = parse_scaled(text, kUnits, false);
-  if (!hz || *hz == 0 || *hz > std::numeric_limits<std::uint32_t>::max())
+  const Scaled hz = parse_scaled(text, kUnits, false);
+  constexpr std::uint64_t kMax = std::numeric_limits<std::uint32_t>::max();
+  if (hz.status == Scaled::kOverflow || (hz.status == Scaled::kOk && hz.value > kMax))
+    throw UsageError(fmt::format(
+        "bad SPI clock '{}': too large (at most {} Hz can be asked of spidev)", text, kMax));
+  if (hz.status == Scaled::kTooFine)
+    throw UsageError(fmt::format("bad SPI clock '{}': finer than 1 Hz", text));
+  if (hz.status != Scaled::kOk || hz.value == 0)
     throw UsageError(fmt::format(
         "bad SPI clock '{}': expected a frequency in Hz such as 1000000, 500k or 2M", text));
-  return static_cast<std::uint32_t>(*hz);
+  return static_cast<std::uint32_t>(hz.value);
 }
 
 }  // namespace odoloc::cli

@@ -6,6 +6,7 @@
 #include <map>
 #include <sstream>
 
+#include "names.hpp"
 #include "odoloc/regmap/regmap.hpp"
 #include "text.hpp"
 
@@ -126,7 +127,7 @@ void emit_struct(std::ostringstream& o, const Block& b, Port p) {
   for (const Group& g : gs) {
     if (!has(g, p))
       continue;
-    const std::string type = camel(g.name) + "Reg";
+    const std::string type = ports_register_type(g.name);
     o << "  struct " << type << " {\n";
     for (const Field* f : g.ports) {
       if (in_port(*f, p)) {
@@ -135,30 +136,30 @@ void emit_struct(std::ostringstream& o, const Block& b, Port p) {
       }
     }
     o << "    bool operator==(const " << type << "&) const = default;\n"
-      << "    template <class F>\n    constexpr void for_each_field(F&& f) const {\n";
+      << "    template <class F>\n    constexpr void for_each_field(F&& f_) const {\n";
     for (const Field* f : g.ports) {
       if (in_port(*f, p))
-        o << "      f(std::string_view{\"" << f->name << "\"}, " << f->name << ");\n";
+        o << "      f_(std::string_view{\"" << f->name << "\"}, " << f->name << ");\n";
     }
     o << "    }\n  } " << g.name << ";\n";
   }
   o << "  bool operator==(const " << name << "&) const = default;\n"
     << "  // Calls f(name, member) for every register (rtl/fields.hpp's field list).\n"
-    << "  template <class F>\n  constexpr void for_each_field([[maybe_unused]] F&& f) const {\n";
+    << "  template <class F>\n  constexpr void for_each_field([[maybe_unused]] F&& f_) const {\n";
   for (const Group& g : gs) {
     if (has(g, p))
-      o << "    f(std::string_view{\"" << g.name << "\"}, " << g.name << ");\n";
+      o << "    f_(std::string_view{\"" << g.name << "\"}, " << g.name << ");\n";
   }
   o << "  }\n"
     << "  // Calls v(register, field, port) for every port.\n"
     << "  template <class Self, class V>\n"
-    << "  static constexpr void for_each_port([[maybe_unused]] Self& self, "
-       "[[maybe_unused]] V&& v) {\n";
+    << "  static constexpr void for_each_port([[maybe_unused]] Self& self_, "
+       "[[maybe_unused]] V&& v_) {\n";
   for (const Group& g : gs) {
     for (const Field* f : g.ports) {
       if (in_port(*f, p)) {
-        o << "    v(std::string_view{\"" << g.name << "\"}, std::string_view{\"" << f->name
-          << "\"}, self." << g.name << "." << f->name << ");\n";
+        o << "    v_(std::string_view{\"" << g.name << "\"}, std::string_view{\"" << f->name
+          << "\"}, self_." << g.name << "." << f->name << ");\n";
       }
     }
   }
@@ -261,7 +262,7 @@ std::string emit_ports(const RegisterMap& map) {
   }
   for (const Block* bp : blocks) {
     const Block& b = *bp;
-    o << "// " << b.description << "\nnamespace " << b.name << " {\n\n";
+    o << "/* " << comment_text(b.description) << " */\nnamespace " << b.name << " {\n\n";
     // The register map's enums, by field name (register + field on a clash).
     std::map<std::string, int> uses;
     for (const Register& r : b.registers) {
@@ -273,9 +274,9 @@ std::string emit_ports(const RegisterMap& map) {
       for (const Field& f : r.fields) {
         if (f.enums.empty())
           continue;
-        const std::string alias = uses[f.name] > 1 ? camel(r.name) + camel(f.name) : camel(f.name);
-        o << "using " << alias << " = regs::" << b.name << "::" << r.name << "::" << camel(f.name)
-          << ";\n";
+        const std::string alias = ports_enum_alias(r, f, uses[f.name] > 1);
+        o << "using " << alias << " = regs::" << b.name << "::" << r.name
+          << "::" << cpp_enum_type(f) << ";\n";
         any = true;
       }
     }
@@ -302,25 +303,26 @@ std::string emit_ports(const RegisterMap& map) {
     }
     o << "  bool operator==(const " << name << "&) const = default;\n"
       << "  // Calls f(name, member) for every block (rtl/fields.hpp's field list).\n"
-      << "  template <class F>\n  constexpr void for_each_field(F&& f) const {\n";
+      << "  template <class F>\n  constexpr void for_each_field(F&& f_) const {\n";
     for (const Block* b : blocks)
-      o << "    f(std::string_view{\"" << b->name << "\"}, " << b->name << ");\n";
+      o << "    f_(std::string_view{\"" << b->name << "\"}, " << b->name << ");\n";
     o << "  }\n"
       << "  // Calls v(block, instance (-1: a single block), register, field, port).\n"
       << "  template <class Self, class V>\n"
-      << "  static constexpr void for_each_port(Self& self, V&& v) {\n";
+      << "  static constexpr void for_each_port([[maybe_unused]] Self& self_, [[maybe_unused]] V&& "
+         "v_) {\n";
     for (const Block* b : blocks) {
       const std::string type = "::odoloc::ports::" + b->name + "::" + name;
       const auto call = [&](const std::string& member, const std::string& instance) {
         o << "    " << type << "::for_each_port(" << member
-          << ", [&](std::string_view r, std::string_view f, auto& port) { v(std::string_view{\""
-          << b->name << "\"}, " << instance << ", r, f, port); });\n";
+          << ", [&](std::string_view r_, std::string_view f_, auto& port_) { v_(std::string_view{\""
+          << b->name << "\"}, " << instance << ", r_, f_, port_); });\n";
       };
       if (b->instances.empty()) {
-        call("self." + b->name, "-1");
+        call("self_." + b->name, "-1");
       } else {
         for (std::size_t i = 0; i < b->instances.size(); ++i)
-          call("self." + b->name + "[" + std::to_string(i) + "]", std::to_string(i));
+          call("self_." + b->name + "[" + std::to_string(i) + "]", std::to_string(i));
       }
     }
     o << "  }\n};\n\n";
@@ -351,18 +353,23 @@ std::string emit_ports(const RegisterMap& map) {
   o << "// Sets the Config ports of the rw register at a word address from its stored\n"
     << "// word (a wide register's _lo word sets bits 31:0, its _hi word the rest);\n"
     << "// other addresses: no effect.\n";
-  dispatch(Port::kConfig,
-           "constexpr void decode_config(std::uint16_t address, std::uint32_t word, Config& c)",
-           "decode_config", "word", "");
+  dispatch(
+      Port::kConfig,
+      "constexpr void decode_config(std::uint16_t address, [[maybe_unused]] std::uint32_t word,\n"
+      "                             [[maybe_unused]] Config& c)",
+      "decode_config", "word", "");
   o << "// Raises the Pulses of a written register for the 1 bits of the written word\n"
     << "// (w1c clear strobes, w1p pulses); leaves the others as they are.\n";
-  dispatch(Port::kPulses,
-           "constexpr void decode_pulses(std::uint16_t address, std::uint32_t ones, Pulses& p)",
-           "decode_pulses", "ones", "");
+  dispatch(
+      Port::kPulses,
+      "constexpr void decode_pulses(std::uint16_t address, [[maybe_unused]] std::uint32_t ones,\n"
+      "                             [[maybe_unused]] Pulses& p)",
+      "decode_pulses", "ones", "");
   o << "// The bits of the register word at a word address that the hardware drives\n"
     << "// (hw w, set and count fields); 0 elsewhere.\n";
   dispatch(Port::kStatus,
-           "constexpr std::uint32_t encode_status(std::uint16_t address, const Status& s)",
+           "constexpr std::uint32_t encode_status(std::uint16_t address,\n"
+           "                                      [[maybe_unused]] const Status& s)",
            "encode_status", "", "0");
   o << "}  // namespace odoloc::ports\n";
   return o.str();

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <string_view>
 
+#include "names.hpp"
 #include "text.hpp"
 
 namespace odoloc::regmap {
@@ -37,21 +38,89 @@ T scalar(const YAML::Node& node, const std::string& what) {
   }
 }
 
-std::string text(const YAML::Node& node, const char* key) {
-  return node[key] ? scalar<std::string>(node[key], key) : std::string{};
+// The length of the UTF-8 sequence starting at s[i], 0 when invalid.
+std::size_t utf8_length(const std::string& s, std::size_t i) {
+  const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(s[k]); };
+  const unsigned char c = byte(i);
+  std::size_t n = 0;
+  std::uint32_t cp = 0;
+  if (c < 0x80)
+    return 1;
+  if ((c & 0xE0U) == 0xC0U) {
+    n = 2;
+    cp = c & 0x1FU;
+  } else if ((c & 0xF0U) == 0xE0U) {
+    n = 3;
+    cp = c & 0x0FU;
+  } else if ((c & 0xF8U) == 0xF0U) {
+    n = 4;
+    cp = c & 0x07U;
+  } else {
+    return 0;
+  }
+  if (i + n > s.size())
+    return 0;
+  for (std::size_t k = 1; k < n; ++k) {
+    if ((byte(i + k) & 0xC0U) != 0x80U)
+      return 0;
+    cp = (cp << 6) | (byte(i + k) & 0x3FU);
+  }
+  const std::uint32_t min = n == 2 ? 0x80U : n == 3 ? 0x800U : 0x10000U;
+  if (cp < min || cp > 0x10FFFFU || (cp >= 0xD800U && cp <= 0xDFFFU))
+    return 0;
+  if (cp >= 0x80U && cp < 0xA0U)  // C1 control characters
+    return 0;
+  return n;
 }
 
+// A description: one paragraph of UTF-8 text. Line breaks (a YAML block
+// scalar) and tabs become single spaces; other control characters and
+// invalid UTF-8 are refused. The emitters escape what each language needs.
+std::string text(const YAML::Node& node, const char* key, const std::string& where) {
+  if (!node[key])
+    return {};
+  const auto raw = scalar<std::string>(node[key], where + " " + key);
+  std::string out;
+  bool space = false;
+  for (std::size_t i = 0; i < raw.size();) {
+    const char c = raw[i];
+    if (c == ' ' || c == '\t' || c == '\n' || c == '\r') {
+      space = !out.empty();
+      ++i;
+      continue;
+    }
+    const std::size_t n = utf8_length(raw, i);
+    if (n == 0 || static_cast<unsigned char>(c) < 0x20 || c == 0x7F) {
+      fail(node[key], where + ": the " + std::string(key) +
+                          " holds a control character or invalid UTF-8 at byte " +
+                          std::to_string(i));
+    }
+    if (space)
+      out += ' ';
+    space = false;
+    out.append(raw, i, n);
+    i += n;
+  }
+  return out;
+}
+
+// a-z first, then a-z, 0-9 and single underscores, not at the end: joined
+// with '_' (C macros, SystemRDL instances) a name never makes "__".
 bool is_identifier(const std::string& s) {
-  return !s.empty() && (std::islower(static_cast<unsigned char>(s[0])) != 0) &&
-         std::all_of(s.begin(), s.end(), [](char c) {
-           return std::islower(static_cast<unsigned char>(c)) != 0 ||
-                  std::isdigit(static_cast<unsigned char>(c)) != 0 || c == '_';
-         });
+  if (s.empty() || std::islower(static_cast<unsigned char>(s[0])) == 0 || s.back() == '_' ||
+      s.find("__") != std::string::npos)
+    return false;
+  return std::all_of(s.begin(), s.end(), [](char c) {
+    return std::islower(static_cast<unsigned char>(c)) != 0 ||
+           std::isdigit(static_cast<unsigned char>(c)) != 0 || c == '_';
+  });
 }
 
 void check_name(const YAML::Node& at, const std::string& name, const std::string& what) {
   if (!is_identifier(name)) {
-    fail(at, what + " '" + name + "': names are lower_snake_case identifiers");
+    fail(at, what + " '" + name +
+                 "': names are lower_snake_case identifiers (a-z first, then a-z, 0-9 and single "
+                 "underscores, not at the end)");
   }
 }
 
@@ -68,11 +137,14 @@ void check_keys(const YAML::Node& n, std::initializer_list<std::string_view> kno
                 const std::string& where) {
   if (!n.IsMap())
     fail(n, where + ": expected a mapping");
+  std::set<std::string> seen;
   for (const auto& kv : n) {
-    const auto key = kv.first.as<std::string>();
+    const auto key = scalar<std::string>(kv.first, where + " key");
     if (std::find(known.begin(), known.end(), key) == known.end())
       fail(kv.first,
            where + ": unknown key '" + key + "' (quote values that contain a comma or a colon)");
+    if (!seen.insert(key).second)
+      fail(kv.first, where + ": key '" + key + "' given twice");
   }
 }
 
@@ -142,7 +214,7 @@ Field parse_field(const YAML::Node& n, Access default_access, Hw default_hw, int
   f.is_signed = n["signed"] && scalar<bool>(n["signed"], at + " signed");
   if (f.is_signed && f.width() < 2)
     fail(n, at + ": a signed field needs at least 2 bits");
-  f.description = text(n, "description");
+  f.description = text(n, "description", at);
   const std::uint64_t limit = ones(f.width());
   const auto reset = n["reset"] ? scalar<std::uint64_t>(n["reset"], at + " reset") : 0;
   if (reset > limit)
@@ -152,6 +224,8 @@ Field parse_field(const YAML::Node& n, Access default_access, Hw default_hw, int
   f.port_reset = reset;
   f.reset = static_cast<std::uint32_t>(reset);
   if (const YAML::Node& e = n["enum"]) {
+    if (!e.IsMap())
+      fail(e, at + ": enum must be a mapping {name: value}");
     std::set<std::string> names;
     std::set<std::uint64_t> values;
     for (const auto& kv : e) {
@@ -200,6 +274,8 @@ std::vector<Register> parse_register(const YAML::Node& n, int data_bits, const s
              at);
   check_name(n, r.name, "register");
   r.offset = scalar<std::uint32_t>(required(n, "offset", at), at + " offset");
+  if (r.offset > 0xFFFFU)
+    fail(n["offset"], at + ": offset is outside the 16-bit address space");
   r.access = access_of(required(n, "access", at), at);
   r.hw = hw_of(required(n, "hw", at), at);
   if (!legal(r.access, r.hw)) {
@@ -213,7 +289,7 @@ std::vector<Register> parse_register(const YAML::Node& n, int data_bits, const s
   if (words == 2 && r.access != Access::kRo && r.access != Access::kRw)
     fail(n["words"], at + ": a words: 2 register must be ro or rw");
   r.snapshot = n["snapshot"] && scalar<bool>(n["snapshot"], at + " snapshot");
-  r.description = text(n, "description");
+  r.description = text(n, "description", at);
   const YAML::Node& fields = required(n, "fields", at);
   if (!fields.IsSequence() || fields.size() == 0)
     fail(fields, at + ": needs at least one field");
@@ -269,13 +345,19 @@ Block parse_block(const YAML::Node& n, int data_bits) {
       b.name);
   check_name(n, b.name, "block");
   b.base = scalar<std::uint32_t>(required(n, "base", b.name), b.name + " base");
-  b.description = text(n, "description");
+  if (b.base > 0xFFFFU)
+    fail(n["base"], b.name + ": base is outside the 16-bit address space");
+  b.description = text(n, "description", b.name);
   b.reserved = n["reserved"] && scalar<bool>(n["reserved"], b.name + " reserved");
   if (b.reserved) {
     b.size = scalar<std::uint32_t>(required(n, "size", b.name), b.name + " size");
+    if (b.size == 0 || b.size > 0xFFFFU)
+      fail(n["size"], b.name + ": size must be 1..0xffff words");
     return b;
   }
   if (const YAML::Node& inst = n["instances"]) {
+    if (!inst.IsSequence() || inst.size() == 0)
+      fail(inst, b.name + ": instances must be a list of names");
     std::set<std::string> names;
     for (const auto& i : inst) {
       const auto name = scalar<std::string>(i, b.name + " instance");
@@ -284,9 +366,14 @@ Block parse_block(const YAML::Node& n, int data_bits) {
       b.instances.push_back(name);
     }
     b.stride = scalar<std::uint32_t>(required(n, "stride", b.name), b.name + " stride");
+    if (b.stride == 0 || b.stride > 0xFFFFU)
+      fail(n["stride"], b.name + ": stride must be 1..0xffff words");
   }
   std::set<std::string> names;
-  for (const auto& rn : required(n, "registers", b.name)) {
+  const YAML::Node& registers = required(n, "registers", b.name);
+  if (!registers.IsSequence())
+    fail(registers, b.name + ": registers must be a list");
+  for (const auto& rn : registers) {
     for (Register& r : parse_register(rn, data_bits, b.name)) {
       check_unique(names, rn, r.name, "register", b.name);
       if (!b.instances.empty() && r.offset >= b.stride) {
@@ -422,7 +509,9 @@ Spi parse_spi(const YAML::Node& n) {
 
 }  // namespace
 
-RegisterMap parse(const std::string& yaml_text) {
+namespace {
+
+RegisterMap parse_checked(const std::string& yaml_text) {
   YAML::Node root;
   try {
     root = YAML::Load(yaml_text);
@@ -436,7 +525,7 @@ RegisterMap parse(const std::string& yaml_text) {
   map.name = scalar<std::string>(required(m, "name", "map"), "map name");
   check_keys(m, {"name", "description", "address_bits", "data_bits", "clock_hz"}, "map");
   check_name(m, map.name, "map");
-  map.description = text(m, "description");
+  map.description = text(m, "description", "map");
   map.address_bits = scalar<int>(required(m, "address_bits", "map"), "address_bits");
   map.data_bits = scalar<int>(required(m, "data_bits", "map"), "data_bits");
   if (map.address_bits < 1 || map.address_bits > 16)
@@ -454,13 +543,27 @@ RegisterMap parse(const std::string& yaml_text) {
   }
   map.spi = parse_spi(required(root, "spi", "top level"));
   std::set<std::string> names;
-  for (const auto& bn : required(root, "blocks", "top level")) {
+  const YAML::Node& blocks = required(root, "blocks", "top level");
+  if (!blocks.IsSequence())
+    fail(blocks, "blocks must be a list");
+  for (const auto& bn : blocks) {
     Block b = parse_block(bn, map.data_bits);
     check_unique(names, bn, b.name, "block");
     map.blocks.push_back(std::move(b));
   }
   check_addresses(map);
+  check_generated_names(map);
   return map;
+}
+
+}  // namespace
+
+RegisterMap parse(const std::string& yaml_text) {
+  try {
+    return parse_checked(yaml_text);
+  } catch (const YAML::Exception& e) {  // a node of the wrong kind, deep nesting, ...
+    throw RegmapError(std::string("YAML: ") + e.what());
+  }
 }
 
 RegisterMap load(const std::string& path) {

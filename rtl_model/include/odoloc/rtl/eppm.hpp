@@ -393,8 +393,13 @@ class Eppm {
             .tick = timebase_.tick(cfg.prescale.divider)};
   }
   // Each child's inputs: the wires, this module's inputs and configuration.
+  // A/B as the decoder sees them: swapped when cfg.reverse (a mirrored wheel
+  // then counts forward), so counts, speeds and direction bits all follow.
+  static UInt<2> pins(const In& in, const Config& cfg) {
+    return cfg.cfg.reverse ? cat(in.b, in.a) : cat(in.a, in.b);
+  }
   static InputConditioner::In conditioner_in(const In& in, const Config& cfg) {
-    return {.pins = cat(in.a, in.b), .filter_clocks = cfg.cfg.filter_clocks, .reset = in.reset};
+    return {.pins = pins(in, cfg), .filter_clocks = cfg.cfg.filter_clocks, .reset = in.reset};
   }
   static QuadratureDecoder::In decoder_in(const Wires& w, const In& in) {
     return {.filtered = w.filtered,
@@ -434,7 +439,7 @@ class Eppm {
     // no step (the decoder's prev equals the filtered level), so only the
     // timebase moves, plus the period meter on a tick. Window ends take the
     // full path: they set a strobe that unsettles.
-    if (G == Gating::kOn && settled_ && cat(in.a, in.b) == conditioner_.regs().filtered &&
+    if (G == Gating::kOn && settled_ && pins(in, cfg) == conditioner_.regs().filtered &&
         !timebase_.window_end(cfg.window.clocks) && (in.latch_clear | in.reset).is_zero() &&
         !any_set(in.clear)) {
       const Wires settled{.filtered = conditioner_.regs().filtered,
@@ -489,8 +494,17 @@ class Eppm {
       s.speed.value = pulse_.regs().last;
       s.speed.valid = UInt<1>{1};
     } else if (p.valid) {
-      const SInt<24> ticks = p.last.to_sint();
-      s.speed.value = p.last_dir ? ticks : (-ticks).wrap<24>();  // |ticks| < 2^23: exact
+      // The last period, unless the time since the last edge already exceeds
+      // it (the wheel is slower now: at most one edge per elapsed time, so the
+      // reading decays toward zero instead of holding until the stall), and
+      // never below one tick (two edges within one tick are faster than the
+      // meter resolves; 0 would read as standing still).
+      const PeriodTicks open = p.count;
+      const PeriodTicks longest = p.last >= open ? p.last : open;
+      const PeriodTicks ticks = longest.is_zero() ? PeriodTicks{1} : longest;
+      s.speed.bound = UInt<1>::truncate(ticks != p.last);
+      const SInt<24> signed_ticks = ticks.to_sint();
+      s.speed.value = p.last_dir ? signed_ticks : (-signed_ticks).wrap<24>();  // exact: < 2^23
       s.speed.valid = UInt<1>{1};
     }
     s.pulse_last.edges = pulse_.regs().last;

@@ -52,6 +52,14 @@ class ChipLink final : public sw::SpiLink {
     vcd_ = &vcd;
   }
 
+  // Dumps only the four SPI pins (cs_n, sclk, mosi, miso: one-bit wires
+  // with distinct names, beside the writer's clk) during every frame: the
+  // waveform logic-analyser software such as sigrok-cli's VCD input reads.
+  void trace_pins(rtl::VcdWriter& vcd) {
+    vcd.declare(SpiPins{pins_, chip_.miso()});
+    pins_vcd_ = &vcd;
+  }
+
   // Clocks with cs_n high and SCLK at its idle level.
   void advance(std::uint64_t clocks) {
     const rtl::UInt<1> idle_sclk = rtl::UInt<1>::truncate(master_.config().mode3 ? 1 : 0);
@@ -73,17 +81,34 @@ class ChipLink final : public sw::SpiLink {
     chip_.step(pins_);
     if (vcd_ != nullptr && in_frame_)
       vcd_->sample(chip_, clocks_);
+    if (pins_vcd_ != nullptr && in_frame_)
+      pins_vcd_->sample(SpiPins{pins_, chip_.miso()}, clocks_);
     ++clocks_;
     return chip_.miso();
   }
 
  private:
+  // The SPI pins as the board sees them after a clock: the master's three
+  // outputs and the chip's MISO.
+  struct SpiPins {
+    const rtl::ChipPins& pins;
+    rtl::UInt<1> miso;
+    template <class V>
+    void trace(V& v) const {
+      v.signal("cs_n", pins.cs_n);
+      v.signal("sclk", pins.sclk);
+      v.signal("mosi", pins.mosi);
+      v.signal("miso", miso);
+    }
+  };
+
   rtl::OdolocChip chip_;
   rtl::ChipPins pins_;
   SpiPinMaster master_;
   Stimulus stimulus_;
   std::uint64_t clocks_ = 0;
   rtl::VcdWriter* vcd_ = nullptr;
+  rtl::VcdWriter* pins_vcd_ = nullptr;
   bool in_frame_ = false;
 };
 

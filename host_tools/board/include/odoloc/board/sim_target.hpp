@@ -17,6 +17,7 @@ struct SimTargetOptions {
   std::string scenario = "none";  // one of SimTarget::scenarios()
   unsigned sclk_half_period = 4;  // fabric clocks per SCLK level (>= 4: 6.25 MHz)
   std::string vcd_path;           // non-empty: the chip's waveform of every frame (VCD)
+  std::string vcd_pins_path;      // non-empty: only the four SPI pins during every frame (VCD)
 };
 
 class SimTarget {
@@ -34,6 +35,11 @@ class SimTarget {
   [[nodiscard]] std::uint64_t clocks() const;
   // Simulated time since construction.
   [[nodiscard]] std::chrono::nanoseconds elapsed() const;
+
+  // Flushes and closes the waveform files; std::runtime_error naming the
+  // file when anything written to one was lost (disk full, I/O error).
+  // Idempotent; the destructor closes without checking.
+  void finish();
 
   // "none", then the scenario names.
   static std::vector<std::string> scenarios();

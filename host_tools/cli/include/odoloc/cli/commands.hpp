@@ -38,7 +38,9 @@ struct Assignment {
 struct WriteCommand {
   std::vector<Assignment> items;
 };
-struct DumpCommand {};
+struct DumpCommand {
+  std::string filter;  // as ListCommand's
+};
 struct WatchCommand {
   std::vector<Location> items;
   std::chrono::nanoseconds interval = std::chrono::milliseconds{100};
@@ -59,9 +61,10 @@ struct Invocation {
   bool target_given = false;
   bool json = false;
   bool crc = false;
-  std::string vcd;  // sim target: waveform file
+  std::string vcd;       // sim target: waveform file
+  std::string vcd_pins;  // sim target: SPI pins only
   Command command;
-  std::string help;  // not empty: --help was asked for; print it, run nothing
+  std::string help;  // not empty: --help or --version was asked for; print it, run nothing
 };
 
 // Throws UsageError (one line) for anything wrong.
@@ -74,9 +77,18 @@ struct Invocation {
 
 [[nodiscard]] bool needs_target(const Command& command);
 
+// "odoloc 0.1.0 (register map: ...)": --version.
+[[nodiscard]] std::string version_text();
+
+// On the simulated board: UsageError for a command that asks for more
+// simulated time than kMaxSimulated (a wait, a watch's interval or its
+// interval × (count − 1)). A watch without --count is bounded by Ctrl-C.
+void check_simulated(const Command& command);
+
 // Runs one command other than ScriptCommand. `target` may be null for
 // commands that need none. With `json`, prints exactly one JSON document per
-// line (watch: one per sample). `stop` ends a watch early (Ctrl-C).
+// line (watch: one per sample). `stop` set (Ctrl-C) ends a watch or a wait
+// promptly by throwing Interrupted.
 void execute(const Command& command, Target* target, std::ostream& out, bool json,
              const std::atomic<bool>* stop = nullptr);
 

@@ -24,10 +24,21 @@ struct Location {
 
 // A word address in 0 .. 2^kAddressBits - 1 (not necessarily mapped).
 [[nodiscard]] std::uint16_t parse_address(std::string_view text);
+// "b:ADDR": a byte address as in odoloc.rdl and PeakRDL's outputs (4 × the
+// word address), returned as the word address; UsageError unless a multiple
+// of 4 in range.
+[[nodiscard]] std::uint16_t parse_byte_address(std::string_view text);
 // The register at a word address; UsageError when unmapped or reserved.
 [[nodiscard]] const regs::Register& register_at(std::uint16_t address);
-// NAME (register or field path) or ADDR (a number); UsageError naming the
-// closest paths when unknown.
+// NAME or ADDR; UsageError naming the closest paths when unknown.
+//  - NAME: a register or field path ("eppm.left_rear.cfg.decode_mode"), or
+//    the same register or field as spelt in odoloc.rdl / PeakRDL
+//    ("eppm_left_rear.cfg", "odoloc.eppm_left_rear.cfg") or the C header
+//    ("ODOLOC_EPPM_LEFT_REAR_CFG_ADDR"), case-insensitive.
+//  - ADDR: "w:N" a word address (as in docs/spi.md, odoloc_regs.h and
+//    `reg list`), "b:N" a byte address (odoloc.rdl: 4 × the word address),
+//    or a bare N, taken as a word address; a bare N that is also the byte
+//    address of a different register is refused naming both.
 [[nodiscard]] Location resolve(std::string_view name);
 
 // Every register path, then every field path ("reg.field").

@@ -6,6 +6,7 @@
 //   lcm[:...]                   remote simulator (not available yet)
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <memory>
@@ -18,8 +19,11 @@
 namespace odoloc::cli {
 
 struct TargetOptions {
-  bool crc = false;  // switch the fabric's SPI CRC-8 on first (top.ctrl.crc_enable)
-  std::string vcd;   // sim only: write the chip's waveform of every frame here
+  bool crc = false;      // switch the fabric's SPI CRC-8 on first (top.ctrl.crc_enable)
+  std::string vcd;       // sim only: write the chip's waveform of every frame here
+  std::string vcd_pins;  // sim only: the four SPI pins of every frame, for sigrok and the like
+  // Set by Ctrl-C: wait() returns early by throwing Interrupted.
+  const std::atomic<bool>* stop = nullptr;
 };
 
 class Target {
@@ -31,11 +35,25 @@ class Target {
 
   virtual sw::RegisterBus& bus() = 0;
   // Lets `interval` pass: simulated time on the simulator (the fabric runs
-  // for that long, instantly), wall-clock sleep on hardware.
+  // for that long, as fast as the model goes), wall-clock sleep on hardware.
+  // Throws Interrupted when the stop flag is set meanwhile.
   virtual void wait(std::chrono::nanoseconds interval) = 0;
   // Time since the target was opened, on the same clock as wait().
   [[nodiscard]] virtual std::chrono::nanoseconds elapsed() const = 0;
+  // After the last command: closes what the target wrote (waveforms) and
+  // throws when any of it was lost.
+  virtual void finish() {}
 };
+
+// The longest simulated time one command may ask of the simulated board (a
+// wait, or a watch's interval × (count − 1)): the model runs roughly 25
+// million fabric clocks (half a simulated second) per second of CPU, so ten
+// simulated seconds take about 20 s. Longer requests are refused before
+// anything runs.
+inline constexpr std::chrono::seconds kMaxSimulated{10};
+
+// True for sim and sim:SCENARIO.
+[[nodiscard]] bool is_sim_spec(std::string_view spec);
 
 inline constexpr std::uint32_t kSpidevDefaultHz = 1'000'000;
 // docs/spi.md: each SCLK level must last spi.min_level_clocks fabric clocks.
