@@ -1,19 +1,25 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages odoloc builds and tests with. Idempotent:
-# asks apt only for what is missing. Needs root (or sudo) when something is.
+# Installs the Debian 12 packages odoloc builds with; with --tests also the
+# outside tools the tests check the project against (the main job does not
+# need them). Idempotent: asks apt only for what is missing. Needs root (or
+# sudo) when something is.
 set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build git
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libyaml-cpp-dev nlohmann-json3-dev libfmt-dev
   clang libclang-rt-14-dev  # libFuzzer for the bounded fuzz runs (ctest label fuzz)
-  gtkwave      # vcd2fst: the waveform test cross-checks our VCD with GTKWave's own reader
   gnuplot-nox  # the demo's trajectory plot
-  verilator    # test_rdl lints the SystemVerilog PeakRDL-regblock makes from odoloc.rdl
-  sigrok-cli   # test_cli_e2e decodes the host tool's --vcd-pins waveform with sigrok's SPI decoder
-  gcc-avr avr-libc                          # test_regmap_corpus: odoloc_regs.h with a 16-bit int
-  gcc-arm-none-eabi libnewlib-arm-none-eabi  # ... and on a Cortex-M compiler
 )
+if [ "${1:-}" = "--tests" ]; then
+  packages+=(
+    gtkwave      # vcd2fst: the waveform test cross-checks our VCD with GTKWave's own reader
+    verilator    # test_rdl lints the SystemVerilog PeakRDL-regblock makes from odoloc.rdl
+    sigrok-cli   # test_cli_e2e decodes the host tool's --vcd-pins waveform with sigrok's SPI decoder
+    gcc-avr avr-libc                          # test_regmap_corpus: odoloc_regs.h with a 16-bit int
+    gcc-arm-none-eabi libnewlib-arm-none-eabi  # ... and on a Cortex-M compiler
+  )
+fi
 
 missing=()
 for p in "${packages[@]}"; do

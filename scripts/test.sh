@@ -3,5 +3,6 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 preset=${1:-default}
+scripts/setup-debian.sh --tests  # the outside tools the tests compare against
 scripts/build.sh "$preset"
 ctest --preset "$preset"

@@ -22,6 +22,7 @@
 
 namespace {
 
+using odoloc::board::MinSelectTuning;
 using odoloc::board::RunOptions;
 using odoloc::board::RunResult;
 using odoloc::rtl::MinSelectPolicy;
@@ -81,14 +82,21 @@ int main(int argc, char** argv) {
 
   const odoloc::world::Scenario scenario = odoloc::world::default_square();
   std::vector<Variant> variants = {
-      {"rear only", "rear", {MinSelectPolicy::kRearOnly, false, kRecordEveryClocks}},
-      {"front only", "front", {MinSelectPolicy::kFrontOnly, false, kRecordEveryClocks}},
-      {"min-select", "minsel", {MinSelectPolicy::kPerComponent, false, kRecordEveryClocks}},
+      {"rear only",
+       "rear",
+       {MinSelectPolicy::kRearOnly, MinSelectTuning::kVehicle, kRecordEveryClocks}},
+      {"front only",
+       "front",
+       {MinSelectPolicy::kFrontOnly, MinSelectTuning::kVehicle, kRecordEveryClocks}},
+      {"min-select",
+       "minsel",
+       {MinSelectPolicy::kPerComponent, MinSelectTuning::kVehicle, kRecordEveryClocks}},
   };
   if (paper) {
-    variants.push_back({"min-select (paper, memoryless)",
-                        "paper",
-                        {MinSelectPolicy::kPerComponent, true, kRecordEveryClocks}});
+    variants.push_back(
+        {"min-select (paper, memoryless)",
+         "paper",
+         {MinSelectPolicy::kPerComponent, MinSelectTuning::kPaper, kRecordEveryClocks}});
   }
 
   std::printf("odoloc odometry demo: %s\n", scenario.name.c_str());

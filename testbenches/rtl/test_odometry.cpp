@@ -275,8 +275,8 @@ namespace {
 // Why min-select keeps a memory (docs/odometry.md): the paper's memoryless
 // minimum of two quantised 100 us increments under-reads a clean straight
 // drive by several percent; the leaky comparison does not.
-double straight_drive_reading(bool paper_min_select) {
-  OdometryBench bench(MinSelectPolicy::kPerComponent, paper_min_select);
+double straight_drive_reading(odoloc::board::MinSelectTuning tuning) {
+  OdometryBench bench(MinSelectPolicy::kPerComponent, tuning);
   bench.run_to_next_update();
   const std::uint64_t start = bench.clocks;
   bench.drive(1.0, 0.0);
@@ -288,12 +288,14 @@ double straight_drive_reading(bool paper_min_select) {
 }
 
 TEST(MinSelect, MemorylessPaperRuleIsBiasedByQuantisation) {
-  const double paper = straight_drive_reading(true);
-  const double leaky = straight_drive_reading(false);
+  const double paper = straight_drive_reading(odoloc::board::MinSelectTuning::kPaper);
+  const double leaky = straight_drive_reading(odoloc::board::MinSelectTuning::kVehicle);
+  const double reset = straight_drive_reading(odoloc::board::MinSelectTuning::kReset);
   std::printf("straight 0.1 m: paper min-select reads %.4f, leaky min-select %.6f of the truth\n",
               paper, leaky);
   EXPECT_LT(paper, 0.99);
   EXPECT_NEAR(leaky, 1.0, 5e-4);
+  EXPECT_NEAR(reset, 1.0, 5e-4);  // the reset values are the leaky rule too
 }
 
 }  // namespace

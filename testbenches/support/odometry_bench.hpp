@@ -37,8 +37,8 @@ struct OdometryBench {
   std::uint64_t latch_clock = 0;  // the clock whose edge latched the counts of the last update
 
   explicit OdometryBench(rtl::MinSelectPolicy policy = rtl::MinSelectPolicy::kPerComponent,
-                         bool paper_min_select = false) {
-    cfg.odometry = board::odometry_config(geometry, policy, paper_min_select);
+                         board::MinSelectTuning tuning = board::MinSelectTuning::kVehicle) {
+    cfg.odometry = board::odometry_config(geometry, policy, tuning);
   }
 
   void set_pose(const SiPose& p) {

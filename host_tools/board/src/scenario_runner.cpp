@@ -37,20 +37,22 @@ sw::VehicleGeometry nominal_geometry(const world::Geometry& g) {
 }
 
 rtl::OdometryConfig odometry_config(const sw::VehicleGeometry& v, rtl::MinSelectPolicy policy,
-                                    bool paper_min_select) {
+                                    MinSelectTuning tuning) {
   using rtl::UInt;
   const sw::OdometryScales s = sw::odometry_scales(v);
-  const sw::MinSelectSetup m =
-      paper_min_select ? sw::MinSelectSetup{0, 0, 0} : sw::min_select_setup(v);
   rtl::OdometryConfig o;
   o.cfg.policy = UInt<2>{rtl::encoding(policy)};
-  o.cfg.select_shift = UInt<4>{m.shift};
   o.rear_ds_scale.value = UInt<32>{s.rear_ds};
   o.rear_dtheta_scale.value = UInt<32>{s.rear_dtheta};
   o.front_ds_scale.value = UInt<32>{s.front_ds};
   o.front_dtheta_scale.value = UInt<32>{s.front_dtheta};
   o.steer_scale.value = UInt<32>{s.steer};
   o.steer_limit.value = UInt<32>{s.steer_limit};
+  if (tuning == MinSelectTuning::kReset)
+    return o;
+  const sw::MinSelectSetup m =
+      tuning == MinSelectTuning::kPaper ? sw::MinSelectSetup{0, 0, 0} : sw::min_select_setup(v);
+  o.cfg.select_shift = UInt<4>{m.shift};
   o.select_ds_threshold.value = UInt<32>{m.ds_threshold};
   o.select_dtheta_threshold.value = UInt<32>{m.dtheta_threshold};
   return o;
@@ -64,8 +66,8 @@ RunResult run_scenario(const world::Scenario& scenario, const RunOptions& option
   // The fabric's configuration ports, set directly (no register traffic):
   // the vehicle, and the start pose that command.set_pose loads.
   rtl::OdometryFabric::Config cfg;
-  cfg.odometry = odometry_config(nominal_geometry(scenario.geometry), options.policy,
-                                 options.paper_min_select);
+  cfg.odometry =
+      odometry_config(nominal_geometry(scenario.geometry), options.policy, options.tuning);
   cfg.odometry.set_x.bits = rtl::SInt<64>{sw::metres_to_pose(scenario.start.x_m)};
   cfg.odometry.set_y.bits = rtl::SInt<64>{sw::metres_to_pose(scenario.start.y_m)};
   cfg.odometry.set_theta.bits = rtl::UInt<40>{sw::radians_to_heading(scenario.start.theta_rad)};

@@ -16,10 +16,13 @@ namespace odoloc::board {
 
 // What the fabric should be told about the vehicle: the nominal geometry.
 sw::VehicleGeometry nominal_geometry(const world::Geometry& g);
-// The odometry registers for a vehicle; min-select tuned by
-// sw::min_select_setup unless `paper_min_select` asks for the paper's rule.
+// How min-select's memory and thresholds are set: for the vehicle
+// (sw::min_select_setup), the paper's memoryless rule, or left at the
+// register resets (tuned for the reference sw::VehicleGeometry).
+enum class MinSelectTuning : std::uint8_t { kVehicle, kPaper, kReset };
+// The odometry registers for a vehicle.
 rtl::OdometryConfig odometry_config(const sw::VehicleGeometry& v, rtl::MinSelectPolicy policy,
-                                    bool paper_min_select = false);
+                                    MinSelectTuning tuning = MinSelectTuning::kVehicle);
 
 struct PosePoint {
   double time_s;
@@ -42,7 +45,7 @@ struct RunResult {
 
 struct RunOptions {
   rtl::MinSelectPolicy policy = rtl::MinSelectPolicy::kPerComponent;
-  bool paper_min_select = false;          // the memoryless rule instead of the leaky one
+  MinSelectTuning tuning = MinSelectTuning::kVehicle;
   std::uint64_t record_every_clocks = 0;  // 0: no track
 };
 
