@@ -165,9 +165,16 @@ int main(int argc, char** argv) {
       static_cast<double>(clock) / odoloc::rtl::kFabricClockHz,
       static_cast<unsigned long long>(clock), wall_s, static_cast<double>(clock) / wall_s / 1e6,
       static_cast<double>(clock) / odoloc::rtl::kFabricClockHz / wall_s);
-  if (vcd)
+  if (vcd) {
+    vcd.reset();
+    vcd_file.close();
+    if (!vcd_file) {
+      std::fprintf(stderr, "odoloc_eppm_demo: cannot write %s\n", vcd_path.c_str());
+      return 1;
+    }
     std::printf("waveform: %s (first %llu clocks)\n", vcd_path.c_str(),
                 static_cast<unsigned long long>(vcd_clocks));
+  }
   if (mismatches != 0) {
     std::printf("FAIL: %d wheel(s) lost or doubled edges\n", mismatches);
     return 1;
