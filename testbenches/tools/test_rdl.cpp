@@ -4,16 +4,14 @@
 // field match the field's (access, hw) kind in the register map, by a table
 // written here independently of the generator.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <sstream>
 #include <string>
 #include <utility>
 
+#include "odoloc/process/run_program.hpp"
 #include "odoloc/regs.hpp"
 
 namespace {
@@ -67,36 +65,22 @@ std::string rdl_path(std::string_view path) {
   return "odoloc." + p;
 }
 
-struct CommandResult {
-  int status = -1;
-  std::string output;
-};
-
-CommandResult run(const std::string& command) {
-  CommandResult r;
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (pipe == nullptr)
-    return r;
-  std::array<char, 4096> buffer{};
-  while (fgets(buffer.data(), static_cast<int>(buffer.size()), pipe) != nullptr)
-    r.output += buffer.data();
-  const int status = pclose(pipe);
-  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+// A command line through the project's runner: exit status and output.
+odoloc::process::ProgramResult run(const std::string& command) {
+  return odoloc::process::run_shell(command, std::filesystem::current_path());
 }
-
 TEST(SystemRdl, RealToolsAgreeWithTheRegisterMap) {
   if (!std::filesystem::exists(ODOLOC_RDL_CHECK))
     GTEST_SKIP() << ODOLOC_RDL_CHECK << " is absent";
-  const CommandResult r =
+  const odoloc::process::ProgramResult r =
       run(std::string("'") + ODOLOC_RDL_CHECK + "' '" + ODOLOC_REGMAP_RDL + "'");
-  if (r.status == 77)
-    GTEST_SKIP() << "SystemRDL tools unavailable:\n" << r.output;
-  ASSERT_EQ(r.status, 0) << r.output;
+  if (r.exit_status == 77)
+    GTEST_SKIP() << "SystemRDL tools unavailable:\n" << r.message;
+  ASSERT_EQ(r.exit_status, 0) << r.message;
 
   // Per field: "field <path> <semantics> reset=<n>".
   std::map<std::string, std::string> fields;
-  std::istringstream lines(r.output);
+  std::istringstream lines(r.message);
   for (std::string line; std::getline(lines, line);) {
     if (line.rfind("field ", 0) == 0) {
       const auto space = line.find(' ', 6);
@@ -122,7 +106,7 @@ TEST(SystemRdl, RealToolsAgreeWithTheRegisterMap) {
     }
   }
   EXPECT_EQ(checked, fields.size()) << "rdl-check reports fields the register map lacks";
-  EXPECT_NE(r.output.find("PeakRDL-regblock: SystemVerilog written"), std::string::npos);
+  EXPECT_NE(r.message.find("PeakRDL-regblock: SystemVerilog written"), std::string::npos);
 }
 
 }  // namespace

@@ -7,17 +7,15 @@
 // C++20, the SystemRDL through ../shared/tools/rdl-check (skipped when it
 // exits 77), and the Markdown must have one row per field.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <algorithm>
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "odoloc/process/run_program.hpp"
 #include "odoloc/regmap/regmap.hpp"
 
 namespace {
@@ -25,24 +23,10 @@ namespace {
 namespace fs = std::filesystem;
 namespace rm = odoloc::regmap;
 
-struct CommandResult {
-  int status = -1;
-  std::string output;
-};
-
-CommandResult run(const std::string& command) {
-  CommandResult r;
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (pipe == nullptr)
-    return r;
-  std::array<char, 4096> buffer{};
-  while (fgets(buffer.data(), static_cast<int>(buffer.size()), pipe) != nullptr)
-    r.output += buffer.data();
-  const int status = pclose(pipe);
-  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+// A command line through the project's runner: exit status and output.
+odoloc::process::ProgramResult run(const std::string& command) {
+  return odoloc::process::run_shell(command, std::filesystem::current_path());
 }
-
 std::string read_file(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::ostringstream s;
@@ -166,7 +150,7 @@ void check_outputs(const std::string& name, const rm::RegisterMap& map) {
   for (const auto& cc : c_compilers()) {
     const auto r = run(cc.command + kCFlags + "-I" + quote(inc) + " " + quote(dir.path / "use.c") +
                        " -o " + quote(dir.path / "use.o"));
-    EXPECT_EQ(r.status, 0) << cc.name << ":\n" << r.output;
+    EXPECT_EQ(r.exit_status, 0) << cc.name << ":\n" << r.message;
   }
 
   // C++: both headers, with the generic visitors instantiated.
@@ -190,14 +174,14 @@ void check_outputs(const std::string& name, const rm::RegisterMap& map) {
       run(std::string(ODOLOC_CXX) +
           " -std=c++20 -Wall -Wextra -Wpedantic -Wshadow -Werror -fsyntax-only -I" + quote(inc) +
           " -I" + quote(ODOLOC_RTL_INCLUDE) + " " + quote(dir.path / "use.cpp"));
-  EXPECT_EQ(cpp.status, 0) << cpp.output;
+  EXPECT_EQ(cpp.exit_status, 0) << cpp.message;
 
   // SystemRDL: the real compiler and exporter.
   if (fs::exists(ODOLOC_RDL_CHECK)) {
     const auto rdl = run(quote(ODOLOC_RDL_CHECK) + " " + quote(dir.path / "map.rdl") + " " +
                          quote(dir.path / "rdl"));
-    if (rdl.status != 77) {
-      EXPECT_EQ(rdl.status, 0) << rdl.output;
+    if (rdl.exit_status != 77) {
+      EXPECT_EQ(rdl.exit_status, 0) << rdl.message;
     }
   }
 
@@ -282,7 +266,7 @@ TEST(CHeader, ConstantsAndHelpersAre32BitOnEveryCompiler) {
     TempDir dir("c32_" + std::to_string(cross));
     const auto r = run(cc.command + kCFlags + "-I" + quote(ODOLOC_GENERATED_INCLUDE) + " " +
                        quote(ODOLOC_C_HEADER_32BIT) + " -o " + quote(dir.path / "c32.o"));
-    EXPECT_EQ(r.status, 0) << cc.name << ":\n" << r.output;
+    EXPECT_EQ(r.exit_status, 0) << cc.name << ":\n" << r.message;
     cross += cc.name == "host" ? 0 : 1;
   }
   if (cross == 0)

@@ -59,4 +59,8 @@ ProgramResult run_program(const std::string& program, const std::vector<std::str
   return result;
 }
 
+ProgramResult run_shell(const std::string& command, const std::filesystem::path& working_dir) {
+  return run_program("/bin/sh", {"-c", command}, working_dir);
+}
+
 }  // namespace odoloc::process

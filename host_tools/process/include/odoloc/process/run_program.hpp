@@ -24,4 +24,8 @@ struct ProgramResult {
 ProgramResult run_program(const std::string& program, const std::vector<std::string>& args,
                           const std::filesystem::path& working_dir);
 
+// Runs a command line with /bin/sh -c in `working_dir` (for tests that
+// compose compiler command lines); quote paths in it.
+ProgramResult run_shell(const std::string& command, const std::filesystem::path& working_dir);
+
 }  // namespace odoloc::process
