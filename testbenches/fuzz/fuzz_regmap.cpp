@@ -16,6 +16,7 @@
 #include <sstream>
 #include <string>
 
+#include "markdown_table.hpp"
 #include "odoloc/regmap/regmap.hpp"
 
 namespace {
@@ -92,15 +93,7 @@ void rdl(const std::string& s) {
 }
 
 std::size_t cells(const std::string& row) {
-  std::size_t pipes = 0;
-  for (std::size_t i = 0; i < row.size(); ++i) {
-    if (row[i] == '\\') {
-      ++i;
-      continue;
-    }
-    pipes += row[i] == '|' ? 1 : 0;
-  }
-  return pipes;
+  return odoloc::tb::unescaped_pipes(row);
 }
 
 void markdown(const std::string& s) {

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "markdown_table.hpp"
 #include "odoloc/process/run_program.hpp"
 #include "odoloc/regmap/regmap.hpp"
 
@@ -74,15 +75,7 @@ const std::string kCFlags = " -std=c99 -pedantic -Wall -Wextra -Werror -O1 -c ";
 
 // Splits a Markdown table row on its unescaped pipes.
 std::size_t cells(const std::string& row) {
-  std::size_t pipes = 0;
-  for (std::size_t i = 0; i < row.size(); ++i) {
-    if (row[i] == '\\') {
-      ++i;
-      continue;
-    }
-    pipes += row[i] == '|' ? 1 : 0;
-  }
-  return pipes - 1;
+  return odoloc::tb::unescaped_pipes(row) - 1;
 }
 
 // One row per field under each "### block.register" heading, one per
