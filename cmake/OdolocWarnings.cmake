@@ -1,6 +1,7 @@
 # odoloc_warnings: the one warning set every odoloc target links.
 add_library(odoloc_warnings INTERFACE)
 target_compile_options(odoloc_warnings INTERFACE
-  -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wnon-virtual-dtor -Wold-style-cast
-  -Wcast-align -Woverloaded-virtual -Wnull-dereference -Wimplicit-fallthrough
+  -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wcast-align -Wnull-dereference
+  -Wimplicit-fallthrough
+  $<$<COMPILE_LANGUAGE:CXX>:-Wnon-virtual-dtor -Wold-style-cast -Woverloaded-virtual>
   $<$<BOOL:${ODOLOC_WERROR}>:-Werror>)
