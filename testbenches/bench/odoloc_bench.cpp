@@ -91,7 +91,7 @@ void BM_OdolocChip_CycleStep(benchmark::State& state) {
                                           QuadratureSource(0.02), QuadratureSource(-0.00004)};
   odoloc::board::ChipLink link({.half_period = 4}, [&](auto& pins) {
     for (std::size_t w = 0; w < 4; ++w)
-      pins[w] = encoder_pins(sources[w].tick());
+      pins.encoders[w] = encoder_pins(sources[w].tick());
   });
   for (auto _ : state)
     link.advance(1024);

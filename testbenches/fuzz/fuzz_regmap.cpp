@@ -8,6 +8,9 @@
 // comment closes where it should and no string literal spans a line;
 // braces balance outside comments and strings; in SystemRDL strings close
 // and braces balance; every Markdown table row has its table's cell count.
+// Register arrays (count) and rpop FIFOs (the corpus seeds both): every
+// element is where its array says, and the pop windows are the rpop arrays,
+// in address order, each inside the map and apart from the others.
 // (test_regmap_corpus compiles the outputs of its corpus for real.)
 #include <cstddef>
 #include <cstdint>
@@ -92,6 +95,37 @@ void rdl(const std::string& s) {
   require(depth == 0, "unbalanced SystemRDL braces", s);
 }
 
+// The elements of every register array, and the rpop windows.
+void arrays(const rm::RegisterMap& map) {
+  for (const rm::Block& b : map.blocks) {
+    for (const rm::Register& r : b.registers) {
+      if (r.array.empty()) {
+        require(r.access != rm::Access::kRpop, "an rpop register outside an array", r.name);
+        continue;
+      }
+      require(r.count >= 1 && r.count <= 64 && r.element < r.count, "array bounds", r.name);
+      require(r.name == r.array + std::to_string(r.element) +
+                            (r.wide.empty() ? ""
+                             : r.word == 0  ? "_lo"
+                                            : "_hi"),
+              "an element's name", r.name);
+      require(r.offset ==
+                  r.array_offset() + static_cast<std::uint32_t>(r.element * r.array_words + r.word),
+              "an element's offset", r.name);
+      require(r.access != rm::Access::kRpop || r.snapshot, "an rpop register without snapshot",
+              r.name);
+    }
+  }
+  std::uint32_t next = 0;
+  for (const rm::PopWindow& w : rm::pop_windows(map)) {
+    require(w.head != nullptr && w.head->access == rm::Access::kRpop && w.head->array_head(),
+            "a pop window's head", w.path);
+    require(w.first >= next, "pop windows out of order or overlapping", w.path);
+    next = w.first + static_cast<std::uint32_t>(w.entries * w.words);
+    require(next <= (std::uint32_t{1} << map.address_bits), "a pop window outside the map", w.path);
+  }
+}
+
 std::size_t cells(const std::string& row) {
   return odoloc::tb::unescaped_pipes(row);
 }
@@ -129,5 +163,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   c_like(c, false);
   rdl(r);
   markdown(md);
+  arrays(map);
   return 0;
 }

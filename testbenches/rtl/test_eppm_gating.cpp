@@ -16,6 +16,7 @@
 #include <tuple>
 #include <vector>
 
+#include "idle_contract.hpp"
 #include "odoloc/rtl/eppm.hpp"
 #include "test_scale.hpp"
 
@@ -27,7 +28,7 @@ using odoloc::rtl::Eppm;
 using odoloc::rtl::EppmConfig;
 using odoloc::rtl::EppmInputs;
 using odoloc::rtl::Gating;
-using odoloc::rtl::InputConditioner;
+using InputConditioner = odoloc::rtl::QuadratureConditioner;
 using odoloc::rtl::PeriodMeter;
 using odoloc::rtl::PositionCounter;
 using odoloc::rtl::PulseMeter;
@@ -35,59 +36,12 @@ using odoloc::rtl::QuadratureDecoder;
 using odoloc::rtl::SInt;
 using odoloc::rtl::SpeedTimebase;
 using odoloc::rtl::UInt;
-using Rng = std::mt19937_64;
-
-bool one_in(Rng& rng, std::uint64_t n) {
-  return rng() % n == 0;
-}
-template <int W>
-UInt<W> random_uint(Rng& rng) {
-  return UInt<W>::truncate(rng());
-}
-template <int W>
-SInt<W> random_sint(Rng& rng) {
-  return SInt<W>::truncate(static_cast<std::int64_t>(rng()));
-}
-template <int W, std::size_t N>
-UInt<W> pick(Rng& rng, const std::array<std::uint32_t, N>& values) {
-  return UInt<W>::truncate(values[rng() % N]);
-}
-
-// Renders registers through a block's trace() hook, for failure messages.
-class RegisterDump {
- public:
-  void enter(std::string_view name) {
-    scope_lengths_.push_back(prefix_.size());
-    prefix_.append(name).append(".");
-  }
-  void leave() {
-    prefix_.resize(scope_lengths_.back());
-    scope_lengths_.pop_back();
-  }
-  template <int W>
-  void signal(std::string_view name, UInt<W> v) {
-    add(name, std::to_string(v.value()));
-  }
-  template <int W>
-  void signal(std::string_view name, SInt<W> v) {
-    add(name, std::to_string(v.value()));
-  }
-  std::string text;
-
- private:
-  void add(std::string_view name, const std::string& value) {
-    text.append(prefix_).append(name).append("=").append(value).append(" ");
-  }
-  std::string prefix_;
-  std::vector<std::size_t> scope_lengths_;
-};
-
-template <class Block>
-std::string dump(const Block& block) {
-  RegisterDump d;
-  block.trace(d);
-  return d.text;
-}
+using odoloc::tb::check_idle_contract;
+using odoloc::tb::one_in;
+using odoloc::tb::pick;
+using odoloc::tb::random_sint;
+using odoloc::tb::random_uint;
+using odoloc::tb::Rng;
 
 // Short windows and prescalers keep the full path busy, long ones let the
 // settled fast path run for thousands of clocks.
@@ -160,40 +114,11 @@ TEST(EppmGating, GatedAndUngatedAgreeEveryClock) {
           gated.counter() == ungated.counter() && gated.timebase() == ungated.timebase() &&
           gated.pulse() == ungated.pulse() && gated.period() == ungated.period() &&
           gated.status(cfg).speed == ungated.status(cfg).speed;
-      ASSERT_TRUE(same) << "seed " << seed << " step " << k << "\n  gated:   " << dump(gated)
-                        << "\n  ungated: " << dump(ungated);
+      ASSERT_TRUE(same) << "seed " << seed << " step " << k << ": "
+                        << odoloc::tb::first_difference(gated, ungated);
     }
     EXPECT_GT(quiet_clocks, clocks_per_seed / 4) << "seed " << seed << ": too little gating";
   }
-}
-
-// Drives a leaf block with random inputs from random states (a fresh random
-// register set every 1000 clocks) and checks the idle contract at every clock.
-// Returns the share of idle clocks, so a test can tell the check was not vacuous.
-template <class Block, class RandomRegs, class RandomIn>
-double check_idle_contract(std::uint64_t seed, RandomRegs random_regs, RandomIn random_in) {
-  const std::uint64_t clocks = scaled(200'000);
-  Rng rng(seed);
-  Block block;
-  std::uint64_t idle_clocks = 0;
-  for (std::uint64_t k = 0; k < clocks; ++k) {
-    if (k % 1000 == 0)
-      block.commit(random_regs(rng));
-    const typename Block::In in = random_in(rng);
-    const typename Block::Regs next = block.eval(in);
-    if (block.idle(in)) {
-      ++idle_clocks;
-      if (!(next == block.regs())) {
-        Block stepped = block;
-        stepped.commit(next);
-        ADD_FAILURE() << "idle but eval changes state, seed " << seed << " step " << k
-                      << "\n  regs: " << dump(block) << "\n  eval: " << dump(stepped);
-        return 0;
-      }
-    }
-    block.commit(next);
-  }
-  return static_cast<double>(idle_clocks) / static_cast<double>(clocks);
 }
 
 // Inputs mostly hold their value or stay quiet, so idle clocks are common.
@@ -206,8 +131,10 @@ TEST(LeafIdleContract, InputConditioner) {
   const double idle_share = check_idle_contract<InputConditioner>(
       21,
       [](Rng& rng) {
-        return InputConditioner::Regs{random_uint<2>(rng), random_uint<2>(rng), random_uint<2>(rng),
-                                      random_uint<8>(rng), random_uint<8>(rng)};
+        return InputConditioner::Regs{random_uint<2>(rng),
+                                      random_uint<2>(rng),
+                                      random_uint<2>(rng),
+                                      {random_uint<8>(rng), random_uint<8>(rng)}};
       },
       [&pins](Rng& rng) {
         if (one_in(rng, 8))

@@ -65,7 +65,7 @@ void expect_members_in_order(const char* what) {
 }
 
 TEST(TraceFields, EveryLeafTracesExactlyItsRegisterStruct) {
-  expect_trace_is_field_list(InputConditioner{}, "InputConditioner");
+  expect_trace_is_field_list(InputConditioner<2>{}, "InputConditioner<2>");
   expect_trace_is_field_list(QuadratureDecoder{}, "QuadratureDecoder");
   expect_trace_is_field_list(PositionCounter{}, "PositionCounter");
   expect_trace_is_field_list(SpeedTimebase{}, "SpeedTimebase");
@@ -80,10 +80,14 @@ TEST(TraceFields, EveryLeafTracesExactlyItsRegisterStruct) {
   expect_trace_is_field_list(OdometrySequencer{}, "OdometrySequencer");
   expect_trace_is_field_list(SpiSlave{}, "SpiSlave");
   expect_trace_is_field_list(FabricRegisters{}, "FabricRegisters");
+  expect_trace_is_field_list(InputConditioner<9>{}, "InputConditioner<9>");
+  expect_trace_is_field_list(odoloc::rtl::TofTimebase{}, "TofTimebase");
+  expect_trace_is_field_list(odoloc::rtl::TofChannel<16>{}, "TofChannel<16>");
+  expect_trace_is_field_list(odoloc::rtl::TofSync<16>{}, "TofSync<16>");
 }
 
 TEST(TraceFields, ListedMembersAreDistinctAndInDeclarationOrder) {
-  expect_members_in_order<InputConditionerRegs>("InputConditionerRegs");
+  expect_members_in_order<InputConditionerRegs<2>>("InputConditionerRegs<2>");
   expect_members_in_order<QuadratureDecoderRegs>("QuadratureDecoderRegs");
   expect_members_in_order<PositionCounterRegs>("PositionCounterRegs");
   expect_members_in_order<SpeedTimebaseRegs>("SpeedTimebaseRegs");
@@ -98,6 +102,9 @@ TEST(TraceFields, ListedMembersAreDistinctAndInDeclarationOrder) {
   expect_members_in_order<OdometrySequencerRegs>("OdometrySequencerRegs");
   expect_members_in_order<SpiSlaveRegs>("SpiSlaveRegs");
   expect_members_in_order<FabricRegistersRegs>("FabricRegistersRegs");
+  expect_members_in_order<odoloc::rtl::TofTimebaseRegs>("TofTimebaseRegs");
+  expect_members_in_order<odoloc::rtl::TofChannelRegs<16>>("TofChannelRegs<16>");
+  expect_members_in_order<odoloc::rtl::TofSyncRegs<16>>("TofSyncRegs<16>");
 }
 
 // The chip's waveform: the pins, MISO, and every register of every block;
@@ -110,8 +117,8 @@ TEST(TraceFields, ChipWaveformDeclaresEveryRegister) {
   const odoloc::tb::RegisterDump dump = odoloc::tb::dump_registers(chip, true);
   EXPECT_EQ(vcd.signal_count(), dump.names.size());
 
-  std::size_t expected =
-      ChipPins{}.encoders.size() + 4 + 1;  // encoders, sclk, cs_n, mosi, reset; miso
+  // encoders, comparators, tof_sync, sclk, cs_n, mosi, reset; miso
+  std::size_t expected = ChipPins{}.encoders.size() + 6 + 1;
   FieldWalk walk;
   walk.walk("", chip.spi().regs());
   walk.walk("", chip.registers().regs());
@@ -138,6 +145,15 @@ TEST(TraceFields, ChipWaveformDeclaresEveryRegister) {
   odometry.walk("", f.pose());
   odometry.walk("", f.report());
   expected += odometry.paths.size();
+  const auto& t = chip.tof();
+  FieldWalk tof;
+  tof.walk("", odoloc::rtl::ChipTofCapture::In{});
+  tof.walk("", t.conditioner());
+  tof.walk("", t.timebase());
+  tof.walk("", t.sync());
+  for (std::size_t c = 0; c < odoloc::rtl::ChipTofCapture::kChannels; ++c)
+    tof.walk("", t.channel(c));
+  expected += tof.paths.size();
   EXPECT_EQ(dump.names.size(), expected);
   // The SPI slave's write-data words and the register file's banks are there.
   const auto has = [&](const std::string& name) {

@@ -319,7 +319,11 @@ TEST(CliE2e, BadValuesAddressesAndTargetsAreUsageErrors) {
   expect_usage_error(run({"reg", "write", "odometry.cfg.policy=-1"}), "policy");
   expect_usage_error(run({"reg", "write", "top.scratch"}), "NAME=VALUE");
   const auto space = std::uint32_t{1} << regs::kAddressBits;
-  expect_usage_error(run({"reg", "read", fmt::format("0x{:x}", space)}), "out of range");
+  // Beyond the word addresses and not the byte address of a register either.
+  std::uint32_t beyond = space;
+  while (regs::find(beyond / 4) != nullptr)
+    beyond += 4;
+  expect_usage_error(run({"reg", "read", fmt::format("0x{:x}", beyond)}), "out of range");
   std::uint16_t hole = 0;
   while (regs::find(std::uint32_t{hole}) != nullptr)
     ++hole;

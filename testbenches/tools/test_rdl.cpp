@@ -51,6 +51,10 @@ std::string expected_semantics(regs::Access access, regs::HwAccess hw) {
       {{A::kW1p, H::kR},
        "sw=w hw=r onread=None onwrite=None hwset=False hwclr=False counter=False we=False "
        "storage=True"},
+      // the head of a FIFO: a wire from the hardware (swacc strobes each read)
+      {{A::kRpop, H::kW},
+       "sw=r hw=w onread=None onwrite=None hwset=False hwclr=False counter=False we=False "
+       "storage=False"},
   };
   const auto it = kTable.find({access, hw});
   return it == kTable.end() ? "illegal kind" : it->second;
@@ -86,10 +90,14 @@ TEST(SystemRdl, RealToolsAgreeWithTheRegisterMap) {
       const auto space = line.find(' ', 6);
       fields[line.substr(6, space - 6)] = line.substr(space + 1);
     } else if (line.find("warning") != std::string::npos) {
-      // The one warning the address map cannot avoid: the odometry block
-      // (0x27 words at word 0x60) is not aligned to its size rounded up to a
+      // The warnings the address map cannot avoid: the odometry block (0x27
+      // words at word 0x60) and the tof_channel instances (0x18 words every
+      // 0x18 from word 0x110) are not aligned to their size rounded up to a
       // power of 2. Anything else is a regression.
-      EXPECT_NE(line.find("instance 'odometry' is not a power of 2 multiple"), std::string::npos)
+      const bool odometry = line.find("instance 'odometry' ") != std::string::npos;
+      const bool tof_channel = line.find("instance 'tof_channel_rx") != std::string::npos;
+      EXPECT_TRUE((odometry || tof_channel) &&
+                  line.find("is not a power of 2 multiple") != std::string::npos)
           << line;
     }
   }

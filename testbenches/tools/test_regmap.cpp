@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <bit>
 #include <fstream>
 #include <map>
 #include <random>
@@ -52,6 +53,8 @@ regs::Access access_named(const std::string& a) {
     return regs::Access::kW1c;
   if (a == "rc")
     return regs::Access::kRc;
+  if (a == "rpop")
+    return regs::Access::kRpop;
   return regs::Access::kW1p;
 }
 
@@ -72,7 +75,8 @@ std::uint64_t ones(unsigned width) {
 }
 
 // The description as this test reads it, independently of the generator:
-// one entry per register word at its address, wide registers split by hand.
+// one entry per register word at its address, register arrays and wide
+// registers split by hand.
 struct YField {
   std::string name;
   unsigned lsb = 0, width = 0;  // in the register word
@@ -87,8 +91,10 @@ struct YField {
   }
 };
 struct YRegister {
-  std::string path, block, port_register;  // port_register: the wide name for a word
+  std::string path, block, port_register;  // port_register: the wide or array name
   int instance = -1;
+  int element = -1;  // the index in a register array
+  int count = 0;     // the array's elements
   unsigned address = 0;
   regs::Access access{};
   std::vector<YField> fields;
@@ -108,37 +114,46 @@ std::vector<YRegister> read_description() {
     for (std::size_t i = 0; i < count; ++i) {
       for (const auto& reg : block["registers"]) {
         const unsigned words = reg["words"] ? reg["words"].as<unsigned>() : 1U;
-        for (unsigned w = 0; w < words; ++w) {
-          YRegister r;
-          r.block = block["name"].as<std::string>();
-          r.instance = instances.empty() ? -1 : static_cast<int>(i);
-          r.port_register = reg["name"].as<std::string>();
-          const std::string name = r.port_register + (words == 1 ? "" : w == 0 ? "_lo" : "_hi");
-          r.path = r.block + "." + (instances.empty() ? "" : instances[i] + ".") + name;
-          r.address = block["base"].as<unsigned>() + static_cast<unsigned>(i) * stride +
-                      reg["offset"].as<unsigned>() + w;
-          r.access = access_named(reg["access"].as<std::string>());
-          for (const auto& yf : reg["fields"]) {
-            const unsigned msb = yf["bits"][0].as<unsigned>(), lsb = yf["bits"][1].as<unsigned>();
-            const unsigned lo = 32 * w, hi = lo + 31;
-            if (msb < lo || lsb > hi)
-              continue;
-            YField f;
-            f.name = yf["name"].as<std::string>();
-            f.lsb = std::max(lsb, lo) - lo;
-            f.width = std::min(msb, hi) - lo - f.lsb + 1;
-            f.port_width = msb - lsb + 1;
-            f.port_shift = std::max(lsb, lo) - lsb;
-            f.port_signed = yf["signed"] && yf["signed"].as<bool>();
-            f.is_signed = f.port_signed && msb <= hi;
-            const std::uint64_t reset = yf["reset"] ? yf["reset"].as<std::uint64_t>() : 0U;
-            f.reset = static_cast<std::uint32_t>((reset >> f.port_shift) & ones(f.width));
-            f.access =
-                access_named((yf["access"] ? yf["access"] : reg["access"]).as<std::string>());
-            f.hw = hw_named((yf["hw"] ? yf["hw"] : reg["hw"]).as<std::string>());
-            r.fields.push_back(f);
+        const int elements = reg["count"] ? reg["count"].as<int>() : 0;
+        for (int e = elements == 0 ? -1 : 0; e < elements; ++e) {
+          for (unsigned w = 0; w < words; ++w) {
+            YRegister r;
+            r.block = block["name"].as<std::string>();
+            r.instance = instances.empty() ? -1 : static_cast<int>(i);
+            r.element = e;
+            r.count = elements;
+            r.port_register = reg["name"].as<std::string>();
+            const std::string name = r.port_register + (e < 0 ? "" : std::to_string(e)) +
+                                     (words == 1 ? ""
+                                      : w == 0   ? "_lo"
+                                                 : "_hi");
+            r.path = r.block + "." + (instances.empty() ? "" : instances[i] + ".") + name;
+            r.address = block["base"].as<unsigned>() + static_cast<unsigned>(i) * stride +
+                        reg["offset"].as<unsigned>() +
+                        static_cast<unsigned>(std::max(e, 0)) * words + w;
+            r.access = access_named(reg["access"].as<std::string>());
+            for (const auto& yf : reg["fields"]) {
+              const unsigned msb = yf["bits"][0].as<unsigned>(), lsb = yf["bits"][1].as<unsigned>();
+              const unsigned lo = 32 * w, hi = lo + 31;
+              if (msb < lo || lsb > hi)
+                continue;
+              YField f;
+              f.name = yf["name"].as<std::string>();
+              f.lsb = std::max(lsb, lo) - lo;
+              f.width = std::min(msb, hi) - lo - f.lsb + 1;
+              f.port_width = msb - lsb + 1;
+              f.port_shift = std::max(lsb, lo) - lsb;
+              f.port_signed = yf["signed"] && yf["signed"].as<bool>();
+              f.is_signed = f.port_signed && msb <= hi;
+              const std::uint64_t reset = yf["reset"] ? yf["reset"].as<std::uint64_t>() : 0U;
+              f.reset = static_cast<std::uint32_t>((reset >> f.port_shift) & ones(f.width));
+              f.access =
+                  access_named((yf["access"] ? yf["access"] : reg["access"]).as<std::string>());
+              f.hw = hw_named((yf["hw"] ? yf["hw"] : reg["hw"]).as<std::string>());
+              r.fields.push_back(f);
+            }
+            out.push_back(std::move(r));
           }
-          out.push_back(std::move(r));
         }
       }
     }
@@ -304,58 +319,65 @@ bool in_status(const YField& f) {
          f.hw == regs::HwAccess::kCount;
 }
 
-// A port's place: block, instance, register (wide name), field.
-std::string port_key(std::string_view block, int instance, std::string_view reg,
+// A port's place: block, instance, register (wide or array name), element
+// (-1: not in an array), field.
+std::string port_key(std::string_view block, int instance, std::string_view reg, int element,
                      std::string_view field) {
   return std::string(block) + "/" + std::to_string(instance) + "/" + std::string(reg) + "/" +
-         std::string(field);
+         std::to_string(element) + "/" + std::string(field);
 }
 std::string port_key(const YRegister& r, const YField& f) {
-  return port_key(r.block, r.instance, r.port_register, f.name);
+  return port_key(r.block, r.instance, r.port_register, r.element, f.name);
 }
 
 // Every port of a struct, by key, as raw bits.
 template <class S>
 std::map<std::string, std::uint64_t> raw_ports(const S& s) {
   std::map<std::string, std::uint64_t> out;
-  S::for_each_port(
-      s, [&](std::string_view b, int i, std::string_view r, std::string_view f, const auto& port) {
-        out[port_key(b, i, r, f)] = PortTraits<std::remove_cvref_t<decltype(port)>>::raw(port);
-      });
+  S::for_each_port(s, [&](std::string_view b, int i, std::string_view r, int e, std::string_view f,
+                          const auto& port) {
+    out[port_key(b, i, r, e, f)] = PortTraits<std::remove_cvref_t<decltype(port)>>::raw(port);
+  });
   return out;
 }
 
 template <class S>
 void randomise(S& s, std::mt19937_64& rng) {
-  S::for_each_port(s, [&](std::string_view, int, std::string_view, std::string_view, auto& port) {
-    PortTraits<std::remove_cvref_t<decltype(port)>>::assign(port, rng());
-  });
+  S::for_each_port(s,
+                   [&](std::string_view, int, std::string_view, int, std::string_view, auto& port) {
+                     PortTraits<std::remove_cvref_t<decltype(port)>>::assign(port, rng());
+                   });
 }
 
 // Every struct has exactly the ports the description gives it, with the
-// field's full width and signedness.
+// field's full width and signedness; Pulses also one `pops` per rpop array
+// (as wide as its element count needs).
 template <class S>
-void expect_ports(bool (*belongs)(const YField&)) {
+void expect_ports(bool (*belongs)(const YField&), bool pops = false) {
   std::map<std::string, std::pair<unsigned, bool>> want;
   for (const YRegister& r : description_registers()) {
     for (const YField& f : r.fields) {
       if (belongs(f))
         want[port_key(r, f)] = {f.port_width, f.port_signed};
     }
+    if (pops && r.access == regs::Access::kRpop) {
+      want[port_key(r.block, r.instance, r.port_register, -1, "pops")] = {
+          std::bit_width(static_cast<unsigned>(r.count)), false};
+    }
   }
   std::map<std::string, std::pair<unsigned, bool>> got;
   const S s{};
-  S::for_each_port(
-      s, [&](std::string_view b, int i, std::string_view r, std::string_view f, const auto& port) {
-        using T = PortTraits<std::remove_cvref_t<decltype(port)>>;
-        EXPECT_TRUE(got.emplace(port_key(b, i, r, f), std::pair{T::kWidth, T::kSigned}).second);
-      });
+  S::for_each_port(s, [&](std::string_view b, int i, std::string_view r, int e, std::string_view f,
+                          const auto& port) {
+    using T = PortTraits<std::remove_cvref_t<decltype(port)>>;
+    EXPECT_TRUE(got.emplace(port_key(b, i, r, e, f), std::pair{T::kWidth, T::kSigned}).second);
+  });
   EXPECT_EQ(got, want);
 }
 
 TEST(FabricPorts, StructsHoldExactlyTheDescribedPorts) {
   expect_ports<ports::Config>(in_config);
-  expect_ports<ports::Pulses>(in_pulses);
+  expect_ports<ports::Pulses>(in_pulses, true);
   expect_ports<ports::Status>(in_status);
   static_assert(
       std::is_same_v<decltype(ports::Status{}.odometry.pose_x.bits), odoloc::rtl::SInt<64>>);
@@ -492,6 +514,149 @@ TEST(FabricPorts, PulsesAndPerBlockFunctions) {
   ports::eppm::decode_config(regs::eppm::cfg::kOffset, 0x0000'0105U, e);
   EXPECT_EQ(e.cfg.filter_clocks.value(), 5U);
   EXPECT_EQ(e.cfg.decode_mode.value(), static_cast<unsigned>(ports::eppm::DecodeMode::kX2));
+}
+
+// ---- Register arrays and rpop (the tof blocks) ------------------------------
+
+// An array is one namespace in regs.hpp and one member in ports.hpp; its
+// elements are ordinary registers.
+TEST(RegisterArrays, NamespacesGiveEveryElementsAddress) {
+  namespace ch = regs::tof_channel;
+  static_assert(ch::entry::kOffset == 0x8 && ch::entry::kCount == 8 && ch::entry::kWords == 2);
+  static_assert(regs::tof::sync_entry::kCount == 8 && regs::tof::sync_entry::kWords == 1);
+  for (unsigned i = 0; i < ch::kInstances; ++i) {
+    EXPECT_EQ(ch::entry::address(i, 0), ch::entry0_lo::address(i));
+    EXPECT_EQ(ch::entry::address(i, 5), ch::entry5_lo::address(i));
+    EXPECT_EQ(ch::entry::address(i, 5) + 1U, ch::entry5_hi::address(i));
+    EXPECT_EQ(ch::entry::address(i, 7), 0x110U + i * 0x18U + 0x8U + 14U);
+  }
+  EXPECT_EQ(regs::tof::sync_entry::address(0), regs::tof::sync_entry0::kAddress);
+  EXPECT_EQ(regs::tof::sync_entry::address(7), 0x10FU);
+  const regs::Register* r = regs::find("tof_channel.rx3.entry5_hi");
+  ASSERT_NE(r, nullptr);
+  EXPECT_EQ(r->access, regs::Access::kRpop);
+  EXPECT_TRUE(r->snapshot);
+  EXPECT_EQ(r->element, 5);
+  EXPECT_EQ(r->rw_mask | r->w1c_mask | r->w1p_mask | r->const_mask, 0U);  // writes refused
+  EXPECT_NE(std::string_view(r->description).find("Element 5 of entry[8]"), std::string_view::npos);
+  for (const char* path : {"tof.cfg", "tof.sync_status", "tof_channel.rx3.status"}) {
+    const regs::Register* other = regs::find(path);
+    ASSERT_NE(other, nullptr) << path;
+    EXPECT_EQ(other->element, -1) << path;
+    EXPECT_EQ(other->pop_window, -1) << path;
+  }
+}
+
+TEST(RegisterArrays, PopWindowsListEveryRpopArrayOfEveryInstance) {
+  ASSERT_EQ(std::size(regs::kPopWindows), 1U + regs::tof_channel::kInstances);
+  const regs::PopWindow& sync = regs::kPopWindows[0];
+  EXPECT_EQ(sync.path, "tof.sync_entry");
+  EXPECT_EQ(sync.first, 0x108U);
+  EXPECT_EQ(sync.entries, 8U);
+  EXPECT_EQ(sync.words, 1U);
+  for (unsigned i = 0; i < regs::tof_channel::kInstances; ++i) {
+    const regs::PopWindow& w = regs::kPopWindows[1 + i];
+    EXPECT_EQ(w.path,
+              "tof_channel." + std::string(regs::tof_channel::kInstanceNames[i]) + ".entry");
+    EXPECT_EQ(w.first, 0x110U + i * 0x18U + 8U);  // element 0's lo word
+    EXPECT_EQ(w.entries, 8U);
+    EXPECT_EQ(w.words, 2U);
+  }
+  EXPECT_EQ(regs::kPopWindows[4].first, 0x160U);  // rx3
+  // Every word of every window, and nothing else, maps back to its window.
+  std::set<std::uint32_t> in_windows;
+  for (std::size_t i = 0; i < std::size(regs::kPopWindows); ++i) {
+    const regs::PopWindow& w = regs::kPopWindows[i];
+    for (unsigned k = 0; k < unsigned{w.entries} * w.words; ++k) {
+      const auto place = regs::find_pop_word(w.first + k);
+      ASSERT_TRUE(place.has_value());
+      EXPECT_EQ(place->window, i);
+      EXPECT_EQ(place->word, k);
+      const regs::Register* r = regs::find(w.first + k);
+      ASSERT_NE(r, nullptr);
+      EXPECT_EQ(r->pop_window, static_cast<int>(i));
+      EXPECT_EQ(r->element, static_cast<int>(k / w.words));
+      EXPECT_EQ(r->access, regs::Access::kRpop);
+      in_windows.insert(w.first + k);
+    }
+  }
+  for (const regs::Register& r : regs::kRegisters) {
+    EXPECT_EQ(in_windows.count(r.address) == 1, r.access == regs::Access::kRpop) << r.path;
+    if (in_windows.count(r.address) == 0) {
+      EXPECT_FALSE(regs::find_pop_word(r.address).has_value()) << r.path;
+      EXPECT_EQ(r.pop_window, -1) << r.path;
+    }
+  }
+}
+
+TEST(RegisterArrays, StatusHoldsTheArrayAtFullWidth) {
+  using Entry = std::remove_cvref_t<decltype(ports::Status{}.tof_channel[0].entry)>;
+  static_assert(std::tuple_size_v<Entry> == 8);
+  static_assert(std::is_same_v<decltype(Entry{}[0].ticks), odoloc::rtl::UInt<32>>);
+  static_assert(std::is_same_v<decltype(Entry{}[0].width), odoloc::rtl::UInt<24>>);
+  static_assert(std::is_same_v<decltype(Entry{}[0].valid), odoloc::rtl::UInt<1>>);
+  static_assert(std::tuple_size_v<decltype(ports::Status{}.tof.sync_entry)> == 8);
+  static_assert(
+      std::is_same_v<decltype(ports::Pulses{}.tof_channel[0].entry.pops), odoloc::rtl::UInt<4>>);
+  static_assert(
+      std::is_same_v<decltype(ports::Pulses{}.tof.sync_entry.pops), odoloc::rtl::UInt<4>>);
+
+  namespace ch = regs::tof_channel;
+  ports::Status s;
+  for (unsigned k = 0; k < 8; ++k) {  // every element different
+    auto& e = s.tof_channel[2].entry[k];
+    e.ticks = odoloc::rtl::UInt<32>{0x1000U + k};
+    e.width = odoloc::rtl::UInt<24>{0xA00000U + k};
+    e.valid = odoloc::rtl::UInt<1>{k % 2};
+  }
+  s.tof_channel[2].entry[5].valid = odoloc::rtl::UInt<1>{1};
+  const std::uint32_t width_mask = ch::entry5_hi::width.mask();
+  EXPECT_EQ(ports::encode_status(ch::entry5_lo::address(2), s), 0x1005U);
+  EXPECT_EQ(ports::encode_status(ch::entry5_hi::address(2), s) & width_mask, 0xA00005U);
+  EXPECT_EQ(ch::entry5_hi::valid.get(ports::encode_status(ch::entry5_hi::address(2), s)), 1U);
+  EXPECT_EQ(ports::encode_status(ch::entry0_lo::address(2), s), 0x1000U);
+  EXPECT_EQ(ports::encode_status(ch::entry5_lo::address(3), s), 0U);  // another channel
+  s.tof.sync_entry[6].ticks = odoloc::rtl::UInt<32>{0xDEADBEEFU};
+  EXPECT_EQ(ports::encode_status(regs::tof::sync_entry6::kAddress, s), 0xDEADBEEFU);
+  EXPECT_EQ(ports::tof::encode_status(regs::tof::sync_entry6::kOffset, s.tof), 0xDEADBEEFU);
+}
+
+TEST(RegisterArrays, DecodePopsSetsOnlyItsWindowsPops) {
+  for (const regs::PopWindow& w : regs::kPopWindows) {
+    SCOPED_TRACE(w.path);
+    for (unsigned entries = 0; entries <= w.entries + 2U; ++entries) {
+      ports::Pulses p;
+      auto want = raw_ports(p);
+      ports::decode_pops(w.first, entries, p);
+      const regs::Register* r = regs::find(w.first);
+      ASSERT_NE(r, nullptr);
+      // "tof_channel.rx3.entry" -> block tof_channel, instance 3, array entry
+      std::string_view path = w.path;
+      const std::string block(path.substr(0, path.find('.')));
+      const std::string array(path.substr(path.rfind('.') + 1));
+      int instance = -1;
+      if (block == "tof_channel") {
+        for (unsigned i = 0; i < regs::tof_channel::kInstances; ++i) {
+          if (path.find(regs::tof_channel::kInstanceNames[i]) != std::string_view::npos)
+            instance = static_cast<int>(i);
+        }
+      }
+      want[port_key(block, instance, array, -1, "pops")] = std::min(entries, unsigned{w.entries});
+      EXPECT_EQ(raw_ports(p), want);
+      ports::Pulses q;
+      ports::decode_pops(static_cast<std::uint16_t>(w.first + 1U), entries, q);  // not element 0
+      EXPECT_TRUE(q == ports::Pulses{});
+    }
+  }
+  ports::Pulses p;
+  ports::decode_pops(regs::tof_channel::entry::address(3, 0), 5, p);
+  EXPECT_EQ(p.tof_channel[3].entry.pops.value(), 5U);
+  EXPECT_EQ(p.tof_channel[2].entry.pops.value(), 0U);
+  ports::tof::Pulses t;
+  ports::tof::decode_pops(regs::tof::sync_entry::kOffset, 8, t);
+  EXPECT_EQ(t.sync_entry.pops.value(), 8U);
+  ports::decode_pulses(regs::tof_channel::entry0_lo::address(3), 0xFFFFFFFFU, p);  // no pulse
+  EXPECT_EQ(p.tof_channel[3].entry.pops.value(), 5U);
 }
 
 // A minimal valid description to break one way at a time.
@@ -666,7 +831,7 @@ TEST(RegisterMapGenerator, RejectsBadWideRegisters) {
   expect_rejected(
       one("{name: p, offset: 0, words: 2, access: w1c, hw: set, fields: [{name: f, bits: [40, "
           "0]}]}"),
-      "must be ro or rw");
+      "must be ro, rw or rpop");
   expect_rejected(
       one("{name: p, offset: 0, words: 2, access: rw, hw: r, fields: [{name: f, bits: [64, 0]}]}"),
       "wider than the 64-bit register");
@@ -676,6 +841,144 @@ TEST(RegisterMapGenerator, RejectsBadWideRegisters) {
   expect_rejected(one("{name: p, offset: 0, words: 2, access: rw, hw: r, fields: [{name: f, "
                       "bits: [33, 30], enum: {a: 1}}]}"),
                   "enum field cannot span two words");
+}
+
+TEST(RegisterMapGenerator, ExpandsRegisterArrays) {
+  const auto map = odoloc::regmap::parse(
+      one("{name: e, offset: 4, count: 3, words: 2, access: rpop, hw: w, snapshot: true, "
+          "description: Entry., fields: [{name: t, bits: [31, 0]}, {name: v, bits: [63, 63]}]}") +
+      "      - {name: s, offset: 16, count: 2, access: rw, hw: r, fields: [{name: f, bits: [7, "
+      "0], reset: 3}]}\n");
+  const auto& r = map.blocks.at(0).registers;
+  ASSERT_EQ(r.size(), 8U);
+  const char* names[] = {"e0_lo", "e0_hi", "e1_lo", "e1_hi", "e2_lo", "e2_hi", "s0", "s1"};
+  const std::uint32_t offsets[] = {4, 5, 6, 7, 8, 9, 16, 17};
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    EXPECT_EQ(r[i].name, names[i]);
+    EXPECT_EQ(r[i].offset, offsets[i]);
+  }
+  EXPECT_EQ(r[3].array, "e");
+  EXPECT_EQ(r[3].element, 1);
+  EXPECT_EQ(r[3].count, 3);
+  EXPECT_EQ(r[3].array_words, 2);
+  EXPECT_EQ(r[3].word, 1);
+  EXPECT_EQ(r[3].wide, "e1");
+  EXPECT_EQ(r[3].port_name(), "e");
+  EXPECT_EQ(r[3].port_member(), "e[1]");
+  EXPECT_EQ(r[3].array_offset(), 4U);
+  EXPECT_EQ(r[3].description, "Entry. Bits 63:32. Element 1 of e[3].");
+  EXPECT_EQ(r[3].array_description, "Entry. Bits 63:32.");
+  EXPECT_TRUE(r[0].array_head());
+  EXPECT_FALSE(r[1].array_head());
+  EXPECT_EQ(r[7].name, "s1");
+  EXPECT_EQ(r[7].wide, "");
+  EXPECT_EQ(r[7].fields.at(0).reset, 3U);
+  EXPECT_EQ(r[7].port_member(), "s[1]");
+  EXPECT_EQ(r[0].fields.at(0).access, odoloc::regmap::Access::kRpop);
+  EXPECT_EQ(r[0].fields.at(0).hw, odoloc::regmap::Hw::kW);
+
+  // One pop window per rpop array and block instance, by address.
+  const auto inst = odoloc::regmap::parse(description(
+      "  - name: b\n    base: 0x90\n    stride: 0x10\n    instances: [x, y]\n    registers:\n"
+      "      - {name: q, offset: 2, count: 4, access: rpop, hw: w, snapshot: true, fields: "
+      "[{name: t, bits: [15, 0]}]}\n"
+      "  - name: a\n    base: 0\n    registers:\n"
+      "      - {name: e, offset: 1, count: 64, words: 2, access: rpop, hw: w, snapshot: true, "
+      "fields: [{name: t, bits: [40, 0]}]}\n"));
+  const auto windows = odoloc::regmap::pop_windows(inst);
+  ASSERT_EQ(windows.size(), 3U);
+  EXPECT_EQ(windows[0].path, "a.e");
+  EXPECT_EQ(windows[0].first, 1U);
+  EXPECT_EQ(windows[0].entries, 64);
+  EXPECT_EQ(windows[0].words, 2);
+  EXPECT_EQ(windows[1].path, "b.x.q");
+  EXPECT_EQ(windows[1].first, 0x92U);
+  EXPECT_EQ(windows[1].words, 1);
+  EXPECT_EQ(windows[2].path, "b.y.q");
+  EXPECT_EQ(windows[2].first, 0xA2U);
+  EXPECT_EQ(windows[2].instance, 1);
+  // Its pops: 7 bits for 0..64, 3 bits for 0..4.
+  const std::string ports_hpp = odoloc::regmap::emit_ports(inst);
+  EXPECT_NE(ports_hpp.find("UInt<7> pops{};"), std::string::npos);
+  EXPECT_NE(ports_hpp.find("UInt<3> pops{};"), std::string::npos);
+  EXPECT_NE(ports_hpp.find("std::array<EReg, 64> e;"), std::string::npos);
+  EXPECT_NE(ports_hpp.find("case 0x0a2:  // b.y.q\n      b::decode_pops(0x2, entries, p.b[1]);"),
+            std::string::npos);
+  const std::string rdl = odoloc::regmap::emit_systemrdl(inst);
+  EXPECT_NE(rdl.find("sw = r; hw = w; swacc = true;"), std::string::npos);
+  EXPECT_NE(odoloc::regmap::emit_markdown(inst).find("`rpop` read pops"), std::string::npos);
+}
+
+TEST(RegisterMapGenerator, RejectsBadRegisterArrays) {
+  const auto array = [](const std::string& count) {
+    return "{name: e, offset: 0, count: " + count +
+           ", access: ro, hw: w, fields: [{name: f, bits: [0, 0]}]}";
+  };
+  expect_rejected(one(array("0")), "a.e: count must be 1..64");
+  expect_rejected(one(array("65")), "a.e: count must be 1..64");
+  expect_rejected(one(array("-1")), "a.e: count must be 1..64");
+  expect_rejected(one(array("two")), "a.e count: not a valid value");
+  EXPECT_NO_THROW(odoloc::regmap::parse(one(array("1"))));
+  EXPECT_NO_THROW(odoloc::regmap::parse(one(array("64"))));
+  // Names and addresses are checked on the elements.
+  expect_rejected(one(array("4")) +
+                      "      - {name: e3, offset: 8, access: ro, hw: w, fields: "
+                      "[{name: f, bits: [0, 0]}]}\n",
+                  "duplicate register 'e3' in a (element 3 of the register array 'e')");
+  expect_rejected(one("{name: e3, offset: 8, access: ro, hw: w, fields: [{name: f, bits: [0, "
+                      "0]}]}") +
+                      "      - " + array("4") + "\n",
+                  "duplicate register 'e3' in a (element 3 of the register array 'e')");
+  expect_rejected(one("{name: e, offset: 0, count: 2, words: 2, access: ro, hw: w, fields: "
+                      "[{name: f, bits: [40, 0]}]}") +
+                      "      - {name: e1_hi, offset: 8, access: ro, hw: w, fields: [{name: f, "
+                      "bits: [0, 0]}]}\n",
+                  "duplicate register 'e1_hi'");
+  expect_rejected(one(array("4")) +
+                      "      - {name: g, offset: 3, access: ro, hw: w, fields: "
+                      "[{name: f, bits: [0, 0]}]}\n",
+                  "a.g overlaps a.e3");
+  expect_rejected(description("  - name: a\n    base: 0\n    stride: 4\n    instances: [p, q]\n"
+                              "    registers:\n      - " +
+                              array("5") + "\n"),
+                  "a.e4: offset is outside the instance stride");
+  // The array's own name is taken: a register of that name collides in regs.hpp.
+  expect_rejected(one(array("2")) +
+                      "      - {name: e, offset: 8, access: ro, hw: w, fields: "
+                      "[{name: f, bits: [0, 0]}]}\n",
+                  "a.e (register array)");
+}
+
+TEST(RegisterMapGenerator, RejectsBadRpop) {
+  const std::string fields = "fields: [{name: f, bits: [7, 0]}]";
+  expect_rejected(one("{name: e, offset: 0, count: 4, access: rpop, hw: w, " + fields + "}"),
+                  "a.e: an rpop register must be snapshot: true");
+  expect_rejected(one("{name: e, offset: 0, access: rpop, hw: w, snapshot: true, " + fields + "}"),
+                  "a.e: an rpop register needs count: N");
+  for (const std::string hw : {"r", "none", "set", "count"}) {
+    expect_rejected(one("{name: e, offset: 0, count: 4, access: rpop, hw: " + hw +
+                        ", snapshot: true, " + fields + "}"),
+                    "a.e: access rpop cannot have hw " + hw + " (legal: ");
+  }
+  // Every field of an rpop register is rpop, and no other field is.
+  expect_rejected(one("{name: e, offset: 0, count: 4, access: rpop, hw: w, snapshot: true, "
+                      "fields: [{name: f, bits: [7, 0]}, {name: g, bits: [8, 8], access: ro}]}"),
+                  "a.e.g: every field of an rpop register is rpop");
+  expect_rejected(one("{name: e, offset: 0, count: 4, access: rpop, hw: w, snapshot: true, "
+                      "fields: [{name: f, bits: [7, 0], hw: none}]}"),
+                  "a.e.f: access rpop cannot have hw none");
+  expect_rejected(one("{name: s, offset: 0, count: 4, access: ro, hw: w, snapshot: true, "
+                      "fields: [{name: f, bits: [7, 0]}, {name: g, bits: [8, 8], access: rpop}]}"),
+                  "a.s.g: only the fields of an rpop register can be rpop");
+  expect_rejected(one("{name: s, offset: 0, access: w1c, hw: set, fields: [{name: g, bits: [8, "
+                      "8], access: rpop, hw: w}]}"),
+                  "a.s.g: only the fields of an rpop register can be rpop");
+  expect_rejected(one("{name: e, offset: 0, count: 2, words: 2, access: w1p, hw: r, fields: "
+                      "[{name: f, bits: [40, 0]}]}"),
+                  "a words: 2 register must be ro, rw or rpop");
+  EXPECT_NO_THROW(odoloc::regmap::parse(
+      one("{name: e, offset: 0, count: 4, access: rpop, hw: w, snapshot: true, fields: [{name: f, "
+          "bits: [7, 0], access: rpop, hw: w}]}")));
 }
 
 TEST(RegisterMapGenerator, RejectsBadClockAndSpiFacts) {

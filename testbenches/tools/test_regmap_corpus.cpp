@@ -78,8 +78,9 @@ std::size_t cells(const std::string& row) {
   return odoloc::tb::unescaped_pipes(row) - 1;
 }
 
-// One row per field under each "### block.register" heading, one per
-// register instance in the summary table, each with its table's cell count.
+// One row per field under each "### block.register" heading (a register
+// array's elements share element 0's), one per register instance in the
+// summary table, each with its table's cell count.
 void check_markdown(const rm::RegisterMap& map, const std::string& md) {
   std::vector<std::string> lines;
   std::istringstream in(md);
@@ -102,6 +103,8 @@ void check_markdown(const rm::RegisterMap& map, const std::string& md) {
   EXPECT_EQ(table_at(0, 5), rm::flatten(map).size() + reserved);
   for (const auto& b : map.blocks) {
     for (const auto& r : b.registers) {
+      if (r.element != 0)
+        continue;
       const std::string heading = "### " + b.name + "." + r.name + " ";
       const auto it = std::find_if(lines.begin(), lines.end(),
                                    [&](const std::string& l) { return l.rfind(heading, 0) == 0; });
@@ -157,16 +160,21 @@ void check_outputs(const std::string& name, const rm::RegisterMap& map) {
              "  odoloc::ports::Pulses::for_each_port(p, count);\n"
              "  odoloc::ports::Status::for_each_port(s, count);\n"
              "  c.for_each_field(count);\n"
+             "  p.for_each_field(count);\n  s.for_each_field(count);\n"
              "  for (const auto& r : odoloc::regs::kRegisters) {\n"
              "    odoloc::ports::decode_config(r.address, r.reset, c);\n"
              "    odoloc::ports::decode_pulses(r.address, r.reset, p);\n"
              "    n += odoloc::ports::encode_status(r.address, s);\n"
-             "    n += odoloc::regs::find(r.path) == &r ? 1U : 0U;\n  }\n"
+             "    n += odoloc::regs::find(r.path) == &r ? 1U : 0U;\n"
+             "    n += odoloc::regs::find_pop_word(r.address) ? 1U : 0U;\n  }\n"
+             "  for (const auto& w : odoloc::regs::kPopWindows)\n"
+             "    odoloc::ports::decode_pops(w.first, w.entries, p);\n"
              "  return static_cast<int>(n & 1U);\n}\n");
   const auto cpp =
       run(std::string(ODOLOC_CXX) +
-          " -std=c++20 -Wall -Wextra -Wpedantic -Wshadow -Werror -fsyntax-only -I" + quote(inc) +
-          " -I" + quote(ODOLOC_RTL_INCLUDE) + " " + quote(dir.path / "use.cpp"));
+          " -std=c++20 -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wold-style-cast -Werror "
+          "-fsyntax-only -I" +
+          quote(inc) + " -I" + quote(ODOLOC_RTL_INCLUDE) + " " + quote(dir.path / "use.cpp"));
   EXPECT_EQ(cpp.exit_status, 0) << cpp.message;
 
   // SystemRDL: the real compiler and exporter.

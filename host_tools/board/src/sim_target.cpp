@@ -90,9 +90,9 @@ class SimTarget::Impl {
     truth_options.start = s.start;
     truth_.emplace(s.geometry, s.path, s.disturbances, truth_options);
     // When the path ends the robot stands still: the pins keep their levels.
-    return [this](ChipLink::EncoderPins& encoders) {
+    return [this](rtl::ChipPins& pins) {
       if (!truth_->done())
-        drive_encoder_pins(encoders, truth_->tick());
+        drive_encoder_pins(pins.encoders, truth_->tick());
     };
   }
 

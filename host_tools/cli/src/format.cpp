@@ -40,6 +40,8 @@ std::string_view access_name(regs::Access access) {
       return "rc";
     case regs::Access::kW1p:
       return "w1p";
+    case regs::Access::kRpop:
+      return "rpop";
   }
   return "?";
 }

@@ -58,8 +58,8 @@ std::string emit_cpp(const RegisterMap& map) {
   std::ostringstream o;
   o << "// " << kGeneratedBanner << "\n"
     << "/* " << comment_text(map.description) << " */\n"
-    << "#pragma once\n\n#include <array>\n#include <cstdint>\n#include <span>\n#include "
-       "<string_view>\n\n"
+    << "#pragma once\n\n#include <array>\n#include <cstdint>\n#include <optional>\n#include "
+       "<span>\n#include <string_view>\n\n"
     << "namespace odoloc::regs {\n\n"
     << "inline constexpr unsigned kAddressBits = " << map.address_bits << ";\n"
     << "inline constexpr unsigned kDataBits = " << map.data_bits << ";\n"
@@ -76,7 +76,10 @@ std::string emit_cpp(const RegisterMap& map) {
     << "inline constexpr std::uint8_t kCrcInit = " << hex(map.spi.crc_init, 2) << ";\n"
     << "inline constexpr std::uint8_t kCrcXorOut = " << hex(map.spi.crc_xor_out, 2) << ";\n"
     << "}  // namespace spi\n\n"
-    << "enum class Access : std::uint8_t { kRo, kRw, kW1c, kRc, kW1p };\n"
+    << "// What software may do. kRpop (read pops): read only; a read frame that\n"
+    << "// completes without error pops off the hardware's FIFO the elements of the\n"
+    << "// register array it read whole, in order from element 0 (kPopWindows).\n"
+    << "enum class Access : std::uint8_t { kRo, kRw, kW1c, kRc, kW1p, kRpop };\n"
     << "// What the hardware does with a field: reads it (configuration, pulses),\n"
     << "// drives it (status), sets it (sticky flags), counts it, or nothing\n"
     << "// (scratch, constants).\n"
@@ -102,7 +105,21 @@ std::string emit_cpp(const RegisterMap& map) {
     << "  bool snapshot;\n  std::uint32_t reset;\n"
     << "  std::uint32_t rw_mask, w1c_mask, w1p_mask;  // which bits a write changes, and how\n"
     << "  std::uint32_t const_mask;  // ro fields without hardware: they read their reset\n"
-    << "  std::string_view description;\n  std::span<const Field> fields;\n};\n\n"
+    << "  std::string_view description;\n  std::span<const Field> fields;\n"
+    << "  std::int8_t element;      // its index in a register array; -1: not an element\n"
+    << "  std::int16_t pop_window;  // rpop: its FIFO's index in kPopWindows; -1: none\n};\n\n"
+    << "// An rpop register array of one block instance: the FIFO it reads, `entries`\n"
+    << "// elements of `words` words each from word address `first`,\n"
+    << "// element 0 the oldest entry. A read frame that completes without error\n"
+    << "// pops the longest run of whole elements it read in order from element 0\n"
+    << "// (each element's words lo then hi); a frame that ends in an error pops\n"
+    << "// nothing.\n"
+    << "struct PopWindow {\n  std::string_view path;\n  std::uint16_t first;  // element 0's first "
+       "word\n"
+    << "  std::uint8_t entries, words;\n};\n\n"
+    << "// A word address in a pop window: the window's index in kPopWindows and the\n"
+    << "// word's index from its element 0's first word (element = word / words).\n"
+    << "struct PopWord {\n  std::uint16_t window, word;\n};\n\n"
     << "struct Reserved {\n  std::string_view name;\n  std::uint16_t base, size;\n};\n\n";
 
   // Per block: a namespace with its layout, and one namespace per register.
@@ -120,6 +137,24 @@ std::string emit_cpp(const RegisterMap& map) {
       o << "};\n";
     }
     for (const Register& r : b.registers) {
+      if (r.array_head()) {
+        o << "// The register array " << r.array << "0 .. " << r.array << r.count - 1
+          << ": element k's words from kOffset + k * kWords.\n"
+          << "namespace " << r.array << " {\n"
+          << "inline constexpr std::uint16_t kOffset = " << hex(r.offset) << ";  // element 0\n"
+          << "inline constexpr unsigned kCount = " << r.count << ";\n"
+          << "inline constexpr unsigned kWords = " << r.array_words
+          << ";  // per element: the element stride\n";
+        if (b.instances.empty()) {
+          o << "constexpr std::uint16_t address(unsigned element) {\n"
+            << "  return static_cast<std::uint16_t>(kBase + kOffset + element * kWords);\n}\n";
+        } else {
+          o << "constexpr std::uint16_t address(unsigned instance, unsigned element) {\n"
+            << "  return static_cast<std::uint16_t>(kBase + instance * kStride + kOffset + element "
+               "* kWords);\n}\n";
+        }
+        o << "}  // namespace " << r.array << "\n";
+      }
       o << "namespace " << r.name << " {\n"
         << "inline constexpr std::uint16_t kOffset = " << hex(r.offset) << ";\n";
       if (b.instances.empty()) {
@@ -161,6 +196,28 @@ std::string emit_cpp(const RegisterMap& map) {
     o << "}  // namespace " << b.name << "\n\n";
   }
 
+  // The rpop FIFOs, by address.
+  const std::vector<PopWindow> windows = pop_windows(map);
+  if (windows.empty()) {  // no zero-size array
+    o << "inline constexpr std::array<PopWindow, 0> kPopWindows{};\n\n";
+  } else {
+    o << "inline constexpr PopWindow kPopWindows[] = {\n";
+    for (const PopWindow& w : windows) {
+      o << "    {" << cpp_quoted(w.path) << ", " << hex(w.first, 3) << ", " << w.entries << ", "
+        << w.words << "},\n";
+    }
+    o << "};\n\n";
+  }
+  // The pop window a word address lies in, -1 for none.
+  const auto window_of = [&](std::uint32_t address) {
+    for (std::size_t i = 0; i < windows.size(); ++i) {
+      const PopWindow& w = windows[i];
+      if (address >= w.first && address - w.first < static_cast<std::uint32_t>(w.entries * w.words))
+        return static_cast<int>(i);
+    }
+    return -1;
+  };
+
   o << "// Every register instance, by address.\ninline constexpr Register kRegisters[] = {\n";
   for (const RegisterInstance& ri : flatten(map)) {
     const Register& r = *ri.reg;
@@ -169,7 +226,8 @@ std::string emit_cpp(const RegisterMap& map) {
       << hex(r.reset(), 8) << ", " << hex(r.mask(Access::kRw), 8) << ", "
       << hex(r.mask(Access::kW1c), 8) << ", " << hex(r.mask(Access::kW1p), 8) << ", "
       << hex(r.const_mask(), 8) << ", " << cpp_quoted(r.description) << ", " << ri.block->name
-      << "::" << r.name << "::kFields},\n";
+      << "::" << r.name << "::kFields, " << (r.array.empty() ? -1 : r.element) << ", "
+      << window_of(ri.address) << "},\n";
   }
   o << "};\n\n";
   bool any = false;
@@ -195,7 +253,15 @@ std::string emit_cpp(const RegisterMap& map) {
     << "// The register with a dotted path (\"eppm.left_rear.cfg\"); nullptr when unknown.\n"
     << "constexpr const Register* find(std::string_view path) {\n"
     << "  for (const Register& r : kRegisters) {\n"
-    << "    if (r.path == path) return &r;\n  }\n  return nullptr;\n}\n\n"
+    << "    if (r.path == path) return &r;\n  }\n  return nullptr;\n}\n"
+    << "// Where a word address lies in the rpop FIFOs; nullopt outside them.\n"
+    << "constexpr std::optional<PopWord> find_pop_word(std::uint32_t address) {\n"
+    << "  for (std::size_t i = 0; i < std::size(kPopWindows); ++i) {\n"
+    << "    const PopWindow& w = kPopWindows[i];\n"
+    << "    if (address >= w.first && address - w.first < std::uint32_t{w.entries} * w.words)\n"
+    << "      return PopWord{static_cast<std::uint16_t>(i), static_cast<std::uint16_t>(address - "
+       "w.first)};\n"
+    << "  }\n  return std::nullopt;\n}\n\n"
     << "}  // namespace odoloc::regs\n";
   return o.str();
 }
@@ -243,6 +309,13 @@ std::string emit_c(const RegisterMap& map) {
         << "\n";
     }
     for (const Register& r : b.registers) {
+      if (r.array_head()) {  // element k's words from OFFSET + k * WORDS
+        const std::string arr = c_array(map, b, r);
+        o << "#define " << arr << "_OFFSET " << u32(r.offset, 1) << "\n"
+          << "#define " << arr << "_COUNT " << u32(static_cast<std::uint32_t>(r.count)) << "\n"
+          << "#define " << arr << "_WORDS " << u32(static_cast<std::uint32_t>(r.array_words))
+          << "\n";
+      }
       const std::string reg = c_register(map, b, r);
       o << "#define " << reg << "_OFFSET " << u32(r.offset, 1) << "\n"
         << "#define " << reg << "_RESET " << u32(r.reset(), 8) << "\n";
@@ -276,11 +349,21 @@ std::string rdl_properties(const Field& f) {
       return "sw = rw; hw = r; hwset; onwrite = woclr; precedence = hw;";
     case Access::kRc:  // a saturating event counter, cleared by reading it
       return "sw = r; hw = r; counter; incrsaturate; onread = rclr;";
-    case Access::kW1p:  // one-clock pulse, reads 0
-      return "sw = w; hw = r; singlepulse;";
+    case Access::kW1p:  // one-clock pulse, reads 0; SystemRDL's singlepulse is 1 bit wide, so
+                        // wider fields pulse the written bits while swmod strobes
+      return f.width() == 1 ? "sw = w; hw = r; singlepulse;" : "sw = w; hw = r; swmod = true;";
+    case Access::kRpop:  // the head of a FIFO: a wire, and a strobe when software reads it
+      return "sw = r; hw = w; swacc = true;";
   }
   return "";
 }
+
+// What an rpop register does, in the outputs' prose.
+constexpr const char* kRpopText =
+    "Read pops (rpop): a read frame that completes without error pops off the hardware's FIFO "
+    "one entry per whole element of this array it read in order from element 0 (the oldest "
+    "entry), each element's words lo then hi; a frame that ends in an error pops nothing. "
+    "Writes are refused.";
 
 std::string emit_systemrdl(const RegisterMap& map) {
   std::ostringstream o;
@@ -313,10 +396,18 @@ std::string emit_systemrdl(const RegisterMap& map) {
             " Snapshot: captured with every other snapshot register when a read frame "
             "starts, so a burst over them never tears.";
       }
+      if (r.access == Access::kRpop)
+        desc += std::string(" ") + kRpopText + " swacc strobes each read word.";
       o << "    reg {\n      desc = " << quoted(desc) << ";\n";
       for (const Field& f : r.fields) {
-        o << "      field { desc = " << quoted((f.is_signed ? "Signed. " : "") + f.description)
-          << "; " << rdl_properties(f);
+        const std::string kind =
+            std::string(f.access == Access::kRpop ? "Read pops. " : "") +
+            (f.access == Access::kW1p && f.width() > 1
+                 ? "Write 1s for a one-clock pulse on those bits: the written value, valid while "
+                   "swmod strobes. "
+                 : "") +
+            (f.is_signed ? "Signed. " : "");
+        o << "      field { desc = " << quoted(kind + f.description) << "; " << rdl_properties(f);
         if (!f.enums.empty())
           o << " encode = " << rdl_enum_type(r, f) << ";";
         o << " } " << f.name << "[" << f.msb << ":" << f.lsb << "] = " << hex(f.reset) << ";\n";
@@ -344,13 +435,18 @@ std::string emit_markdown(const RegisterMap& map) {
     << markdown_text(map.description) << ". " << map.data_bits << "-bit registers at "
     << map.address_bits
     << "-bit word addresses. Access: `ro` read only, `rw` read/write, `w1c` write 1 to "
-       "clear, `rc` read to clear, `w1p` write 1 for a one-clock pulse. Registers marked "
+       "clear, `rc` read to clear, `w1p` write 1 for a one-clock pulse, `rpop` read pops (read "
+       "only: a read frame that completes without error pops off the hardware's FIFO the "
+       "elements of the register array it read whole, in order from element 0, the oldest "
+       "entry; a frame that ends in an error pops nothing). Registers marked "
        "*snapshot* are captured together when a read frame starts. Hardware (`hw`): `r` the "
        "fabric reads the value (configuration) or the pulse, `w` the fabric drives it (live "
        "status), `set` a fabric event sets the sticky flag (it wins over a clear in the same "
        "clock), `count` the fabric counts events (saturating), `none` no connection (scratch "
        "storage, or a constant that reads its reset value). Registers ending in `_lo`/`_hi` "
-       "are the two words of one wide value.\n\n"
+       "are the two words of one wide value. A register array `name[N]` is the registers "
+       "`name0` … `nameN-1` (element k of name[N]), element k at the array's offset + k × "
+       "its words per element.\n\n"
     << "Fabric clock " << map.clock_hz << " Hz (" << map.clock_period_ns() << " ns). SPI: at most "
     << map.spi.max_burst << " registers per frame, SCLK levels of at "
     << "least " << map.spi.min_level_clocks << " fabric clocks (SCLK up to " << map.max_sclk_hz()
@@ -379,9 +475,22 @@ std::string emit_markdown(const RegisterMap& map) {
     }
     o << ".\n";
     for (const Register& r : b.registers) {
-      o << "\n### " << b.name << "." << r.name << " (offset " << hex(r.offset) << ")\n\n"
-        << markdown_text(r.description)
-        << "\n\n| bits | field | access | hw | reset | description |\n|---|---|---|---|---|---|\n";
+      if (r.array.empty()) {
+        o << "\n### " << b.name << "." << r.name << " (offset " << hex(r.offset) << ")\n\n"
+          << markdown_text(r.description);
+      } else if (r.element == 0) {  // one section for every element's word
+        const std::string word = r.name.substr(r.array.size() + 1);  // "_lo", "" (after '0')
+        o << "\n### " << b.name << "." << r.name << " … " << r.array << r.count - 1 << word
+          << " (offset " << hex(r.offset) << " + "
+          << (r.array_words == 1 ? std::string() : std::to_string(r.array_words)) << "k, k = 0.."
+          << r.count - 1 << ")\n\n"
+          << markdown_text(r.array_description) << (r.array_description.empty() ? "" : " ")
+          << "Element k of the register array " << r.array << "[" << r.count << "]."
+          << (r.access == Access::kRpop ? std::string(" ") + kRpopText : "");
+      } else {
+        continue;
+      }
+      o << "\n\n| bits | field | access | hw | reset | description |\n|---|---|---|---|---|---|\n";
       for (const Field& f : r.fields) {
         o << "| " << f.msb;
         if (f.msb != f.lsb)

@@ -3,6 +3,7 @@
 // strobes of software writes: w1p commands, w1c clears) and Status (what the
 // hardware drives: live values, sticky flags, counters), with the generated
 // decode/encode between them and register words.
+#include <bit>
 #include <map>
 #include <sstream>
 
@@ -79,9 +80,12 @@ std::string initialiser(const Field& f) {
 }
 
 // One register as the hardware sees it: a one-word register, or both words
-// of a wide one; `fields` holds one slice per port (the first found).
+// of a wide one, or a register array (element 0's words standing for every
+// element); `ports` holds one slice per port (the first found).
 struct Group {
   std::string name;
+  int count = 0;      // the elements of a register array; 0: not an array
+  bool pops = false;  // an rpop array: its FIFO pops
   std::vector<const Register*> words;
   std::vector<const Field*> ports;
 };
@@ -89,8 +93,10 @@ struct Group {
 std::vector<Group> groups(const Block& b) {
   std::vector<Group> out;
   for (const Register& r : b.registers) {
+    if (r.element != 0)
+      continue;
     if (r.word == 0)
-      out.push_back({r.port_name(), {}, {}});
+      out.push_back({r.port_name(), r.count, r.access == Access::kRpop, {}, {}});
     Group& g = out.back();
     g.words.push_back(&r);
     for (const Field& f : r.fields) {
@@ -104,14 +110,6 @@ std::vector<Group> groups(const Block& b) {
   return out;
 }
 
-bool has(const Group& g, Port p) {
-  for (const Field* f : g.ports) {
-    if (in_port(*f, p))
-      return true;
-  }
-  return false;
-}
-
 bool has(const Register& r, Port p) {
   for (const Field& f : r.fields) {
     if (in_port(f, p))
@@ -120,48 +118,86 @@ bool has(const Register& r, Port p) {
   return false;
 }
 
+// A member of a port struct: its type, name and default member initialiser.
+struct Member {
+  std::string type, name, init;
+};
+// A register's member of a block's port struct: a struct of its ports, or an
+// array of them (one per element of a register array).
+struct PortGroup {
+  std::string name;
+  int count = 0;
+  std::vector<Member> members;
+};
+
+// The pops of an rpop array: how many whole elements (0..N) a read frame popped.
+std::string pops_type(int count) {
+  std::ostringstream o;
+  o << "UInt<" << std::bit_width(static_cast<unsigned>(count)) << ">";
+  return o.str();
+}
+
+// The members of a block's Config, Pulses or Status. Pulses carries one
+// `pops` per rpop array (a strobe for the array, not per element).
+std::vector<PortGroup> port_groups(const Block& b, Port p) {
+  std::vector<PortGroup> out;
+  for (const Group& g : groups(b)) {
+    PortGroup pg{g.name, g.count, {}};
+    for (const Field* f : g.ports) {
+      if (in_port(*f, p))
+        pg.members.push_back({port_type(*f), f->name, p == Port::kPulses ? "{}" : initialiser(*f)});
+    }
+    if (p == Port::kPulses && g.pops) {  // (rpop fields are in Status only)
+      pg.count = 0;
+      pg.members.push_back({pops_type(g.count), "pops", "{}"});
+    }
+    if (!pg.members.empty())
+      out.push_back(std::move(pg));
+  }
+  return out;
+}
+
 void emit_struct(std::ostringstream& o, const Block& b, Port p) {
   const std::string name = struct_name(p);
   o << "struct " << name << " {\n";
-  const auto gs = groups(b);
-  for (const Group& g : gs) {
-    if (!has(g, p))
-      continue;
+  const auto gs = port_groups(b, p);
+  for (const PortGroup& g : gs) {
     const std::string type = ports_register_type(g.name);
     o << "  struct " << type << " {\n";
-    for (const Field* f : g.ports) {
-      if (in_port(*f, p)) {
-        o << "    " << port_type(*f) << " " << f->name
-          << (p == Port::kPulses ? std::string("{}") : initialiser(*f)) << ";\n";
-      }
-    }
+    for (const Member& m : g.members)
+      o << "    " << m.type << " " << m.name << m.init << ";\n";
     o << "    bool operator==(const " << type << "&) const = default;\n"
       << "    template <class F>\n    constexpr void for_each_field(F&& f_) const {\n";
-    for (const Field* f : g.ports) {
-      if (in_port(*f, p))
-        o << "      f_(std::string_view{\"" << f->name << "\"}, " << f->name << ");\n";
-    }
-    o << "    }\n  } " << g.name << ";\n";
+    for (const Member& m : g.members)
+      o << "      f_(std::string_view{\"" << m.name << "\"}, " << m.name << ");\n";
+    o << "    }\n  }";
+    if (g.count == 0)
+      o << " " << g.name << ";\n";
+    else
+      o << ";\n  std::array<" << type << ", " << g.count << "> " << g.name << ";\n";
   }
   o << "  bool operator==(const " << name << "&) const = default;\n"
     << "  // Calls f(name, member) for every register (rtl/fields.hpp's field list).\n"
     << "  template <class F>\n  constexpr void for_each_field([[maybe_unused]] F&& f_) const {\n";
-  for (const Group& g : gs) {
-    if (has(g, p))
-      o << "    f_(std::string_view{\"" << g.name << "\"}, " << g.name << ");\n";
-  }
+  for (const PortGroup& g : gs)
+    o << "    f_(std::string_view{\"" << g.name << "\"}, " << g.name << ");\n";
   o << "  }\n"
-    << "  // Calls v(register, field, port) for every port.\n"
+    << "  // Calls v(register, element, field, port) for every port; element: the\n"
+    << "  // index in a register array, -1 for other registers.\n"
     << "  template <class Self, class V>\n"
     << "  static constexpr void for_each_port([[maybe_unused]] Self& self_, "
        "[[maybe_unused]] V&& v_) {\n";
-  for (const Group& g : gs) {
-    for (const Field* f : g.ports) {
-      if (in_port(*f, p)) {
-        o << "    v_(std::string_view{\"" << g.name << "\"}, std::string_view{\"" << f->name
-          << "\"}, self_." << g.name << "." << f->name << ");\n";
-      }
+  for (const PortGroup& g : gs) {
+    const bool array = g.count != 0;
+    if (array)
+      o << "    for (std::size_t k_ = 0; k_ < " << g.count << "; ++k_) {\n";
+    for (const Member& m : g.members) {
+      o << (array ? "      " : "    ") << "v_(std::string_view{\"" << g.name << "\"}, "
+        << (array ? "static_cast<int>(k_)" : "-1") << ", std::string_view{\"" << m.name
+        << "\"}, self_." << g.name << (array ? "[k_]." : ".") << m.name << ");\n";
     }
+    if (array)
+      o << "    }\n";
   }
   o << "  }\n};\n\n";
 }
@@ -190,7 +226,7 @@ void emit_block_functions(std::ostringstream& o, const Block& b) {
   emit_cases(
       o, b, Port::kConfig, "\n",
       [&](const Register& r, const Field& f) {
-        const std::string port = "c." + r.port_name() + "." + f.name;
+        const std::string port = "c." + r.port_member() + "." + f.name;
         const std::string get = ns + r.name + "::" + f.name + ".get(word)";
         o << "      " << port << " = UInt<" << f.port_width << ">::truncate(";
         if (r.wide.empty()) {
@@ -215,7 +251,7 @@ void emit_block_functions(std::ostringstream& o, const Block& b) {
   emit_cases(
       o, b, Port::kPulses, "\n",
       [&](const Register& r, const Field& f) {
-        const std::string port = "p." + r.port_name() + "." + f.name;
+        const std::string port = "p." + r.port_member() + "." + f.name;
         o << "      " << port << " = " << port << " | UInt<" << f.width() << ">::truncate(" << ns
           << r.name << "::" << f.name << ".get(ones));\n";
       },
@@ -229,7 +265,7 @@ void emit_block_functions(std::ostringstream& o, const Block& b) {
   emit_cases(
       o, b, Port::kStatus, " {\n      std::uint32_t w = 0;\n",
       [&](const Register& r, const Field& f) {
-        const std::string port = "s." + r.port_name() + "." + f.name;
+        const std::string port = "s." + r.port_member() + "." + f.name;
         o << "      w = " << ns << r.name << "::" << f.name << ".set(w, static_cast<std::uint32_t>("
           << raw(f, port);
         if (f.port_shift != 0)
@@ -238,6 +274,20 @@ void emit_block_functions(std::ostringstream& o, const Block& b) {
       },
       "      return w;\n    }\n");
   o << "    default:\n      return 0;\n  }\n}\n\n";
+
+  o << "// A read frame that completed without error popped `entries` whole elements\n"
+    << "// (0..N; more count as N) off the FIFO of the rpop array whose element 0 is\n"
+    << "// at `offset`: sets its pops. Other offsets: no effect.\n"
+    << "constexpr void decode_pops(std::uint16_t offset, [[maybe_unused]] unsigned entries,\n"
+    << "                           [[maybe_unused]] Pulses& p) {\n  switch (offset) {\n";
+  for (const Group& g : groups(b)) {
+    if (!g.pops)
+      continue;
+    o << "    case " << ns << g.name << "::kOffset:\n      p." << g.name
+      << ".pops = " << pops_type(g.count) << "::truncate(entries < " << g.count
+      << "U ? entries : " << g.count << "U);\n      return;\n";
+  }
+  o << "    default:\n      return;\n  }\n}\n\n";
 }
 
 }  // namespace
@@ -250,8 +300,11 @@ std::string emit_ports(const RegisterMap& map) {
     << "// initialisers), Pulses (one-clock strobes of software writes: w1p commands\n"
     << "// and the clears of w1c flags) and Status (fields the hardware drives: live\n"
     << "// values, sticky flags, counters); wide registers appear once, at full\n"
-    << "// width. decode_config/decode_pulses/encode_status convert between them and\n"
-    << "// register words, by block offset (per block) or by word address (whole map).\n"
+    << "// width, and a register array once, as a std::array of its elements. An\n"
+    << "// rpop array's Pulses member holds `pops`: the whole elements a completed\n"
+    << "// read frame popped off its FIFO. decode_config/decode_pulses/encode_status/\n"
+    << "// decode_pops convert between them and register words, by block offset (per\n"
+    << "// block) or by word address (whole map).\n"
     << "#pragma once\n\n#include <array>\n#include <cstdint>\n#include <string_view>\n\n"
     << "#include \"odoloc/regs.hpp\"\n#include \"odoloc/rtl/bits.hpp\"\n\n"
     << "namespace odoloc::ports {\n\nusing rtl::SInt;\nusing rtl::UInt;\n\n";
@@ -263,14 +316,13 @@ std::string emit_ports(const RegisterMap& map) {
   for (const Block* bp : blocks) {
     const Block& b = *bp;
     o << "/* " << comment_text(b.description) << " */\nnamespace " << b.name << " {\n\n";
-    // The register map's enums, by field name (register + field on a clash).
-    std::map<std::string, int> uses;
-    for (const Register& r : b.registers) {
-      for (const Field& f : r.fields)
-        uses[f.name] += f.enums.empty() ? 0 : 1;
-    }
+    // The register map's enums, by field name (register + field on a clash);
+    // a register array's by its element 0.
+    std::map<std::string, int> uses = ports_enum_uses(b);
     bool any = false;
     for (const Register& r : b.registers) {
+      if (r.element != 0)
+        continue;
       for (const Field& f : r.fields) {
         if (f.enums.empty())
           continue;
@@ -307,7 +359,8 @@ std::string emit_ports(const RegisterMap& map) {
     for (const Block* b : blocks)
       o << "    f_(std::string_view{\"" << b->name << "\"}, " << b->name << ");\n";
     o << "  }\n"
-      << "  // Calls v(block, instance (-1: a single block), register, field, port).\n"
+      << "  // Calls v(block, instance (-1: a single block), register, element (-1: not\n"
+      << "  // in a register array), field, port).\n"
       << "  template <class Self, class V>\n"
       << "  static constexpr void for_each_port([[maybe_unused]] Self& self_, [[maybe_unused]] V&& "
          "v_) {\n";
@@ -315,8 +368,9 @@ std::string emit_ports(const RegisterMap& map) {
       const std::string type = "::odoloc::ports::" + b->name + "::" + name;
       const auto call = [&](const std::string& member, const std::string& instance) {
         o << "    " << type << "::for_each_port(" << member
-          << ", [&](std::string_view r_, std::string_view f_, auto& port_) { v_(std::string_view{\""
-          << b->name << "\"}, " << instance << ", r_, f_, port_); });\n";
+          << ", [&](std::string_view r_, int e_, std::string_view f_, auto& port_) { "
+             "v_(std::string_view{\""
+          << b->name << "\"}, " << instance << ", r_, e_, f_, port_); });\n";
       };
       if (b->instances.empty()) {
         call("self_." + b->name, "-1");
@@ -329,18 +383,31 @@ std::string emit_ports(const RegisterMap& map) {
   }
 
   // Whole-map functions: dispatch by word address to the block functions.
-  const auto dispatch = [&](Port p, const std::string& signature, const std::string& call,
-                            const std::string& arg, const std::string& fallback) {
-    o << signature << " {\n  switch (address) {\n";
+  struct Target {
+    std::uint32_t address, offset;
+    std::string path;
+    const Block* block;
+    int instance;
+  };
+  const auto targets = [&](Port p) {
+    std::vector<Target> out;
     for (const RegisterInstance& ri : flatten(map)) {
-      if (!has(*ri.reg, p))
-        continue;
-      const std::string member = ri.instance < 0
-                                     ? ri.block->name
-                                     : ri.block->name + "[" + std::to_string(ri.instance) + "]";
-      o << "    case " << hex(ri.address, 3) << ":  // " << ri.path << "\n      "
-        << (fallback.empty() ? "" : "return ") << ri.block->name << "::" << call << "("
-        << hex(ri.reg->offset) << ", " << (arg.empty() ? "" : arg + ", ")
+      if (has(*ri.reg, p))
+        out.push_back({ri.address, ri.reg->offset, ri.path, ri.block, ri.instance});
+    }
+    return out;
+  };
+  // `signature` declares the function, switching on `selector`, a word address.
+  const auto dispatch = [&](const std::vector<Target>& cases, Port p, const std::string& signature,
+                            const std::string& selector, const std::string& call,
+                            const std::string& arg, const std::string& fallback) {
+    o << signature << " {\n  switch (" << selector << ") {\n";
+    for (const Target& t : cases) {
+      const std::string member =
+          t.instance < 0 ? t.block->name : t.block->name + "[" + std::to_string(t.instance) + "]";
+      o << "    case " << hex(t.address, 3) << ":  // " << t.path << "\n      "
+        << (fallback.empty() ? "" : "return ") << t.block->name << "::" << call << "("
+        << hex(t.offset) << ", " << (arg.empty() ? "" : arg + ", ")
         << (p == Port::kConfig   ? "c."
             : p == Port::kPulses ? "p."
                                  : "s.")
@@ -354,23 +421,35 @@ std::string emit_ports(const RegisterMap& map) {
     << "// word (a wide register's _lo word sets bits 31:0, its _hi word the rest);\n"
     << "// other addresses: no effect.\n";
   dispatch(
-      Port::kConfig,
+      targets(Port::kConfig), Port::kConfig,
       "constexpr void decode_config(std::uint16_t address, [[maybe_unused]] std::uint32_t word,\n"
       "                             [[maybe_unused]] Config& c)",
-      "decode_config", "word", "");
+      "address", "decode_config", "word", "");
   o << "// Raises the Pulses of a written register for the 1 bits of the written word\n"
     << "// (w1c clear strobes, w1p pulses); leaves the others as they are.\n";
   dispatch(
-      Port::kPulses,
+      targets(Port::kPulses), Port::kPulses,
       "constexpr void decode_pulses(std::uint16_t address, [[maybe_unused]] std::uint32_t ones,\n"
       "                             [[maybe_unused]] Pulses& p)",
-      "decode_pulses", "ones", "");
+      "address", "decode_pulses", "ones", "");
   o << "// The bits of the register word at a word address that the hardware drives\n"
     << "// (hw w, set and count fields); 0 elsewhere.\n";
-  dispatch(Port::kStatus,
+  dispatch(targets(Port::kStatus), Port::kStatus,
            "constexpr std::uint32_t encode_status(std::uint16_t address,\n"
            "                                      [[maybe_unused]] const Status& s)",
-           "encode_status", "", "0");
+           "address", "encode_status", "", "0");
+  o << "// A read frame that completed without error popped `entries` whole elements\n"
+    << "// (0..N; more count as N) off the FIFO of the rpop array whose element 0\n"
+    << "// starts at `first_address` (regs::kPopWindows): sets that array's pops in\n"
+    << "// its block instance. Other addresses: no effect.\n";
+  std::vector<Target> windows;
+  for (const PopWindow& w : pop_windows(map))
+    windows.push_back({w.first, w.head->offset, w.path, w.block, w.instance});
+  dispatch(windows, Port::kPulses,
+           "constexpr void decode_pops(std::uint16_t first_address, [[maybe_unused]] unsigned "
+           "entries,\n"
+           "                           [[maybe_unused]] Pulses& p)",
+           "first_address", "decode_pops", "entries", "");
   o << "}  // namespace odoloc::ports\n";
   return o.str();
 }

@@ -35,7 +35,15 @@ class Names {
 };
 
 std::string register_path(const Block& b, const Register& r) {
+  if (!r.array.empty()) {
+    return b.name + "." + r.array + "[" + std::to_string(r.element) + "] (" +
+           (r.wide.empty() ? "register " : "word register ") + r.name + ")";
+  }
   return b.name + "." + (r.wide.empty() ? r.name : r.wide + " (word register " + r.name + ")");
+}
+
+std::string array_path(const Block& b, const Register& r) {
+  return b.name + "." + r.array + " (register array)";
 }
 
 std::string field_path(const Block& b, const Register& r, const Field& f) {
@@ -69,6 +77,10 @@ void c_names(const RegisterMap& map, Names& n) {
         c(c_block(map, b) + s, b.name);
     }
     for (const Register& r : b.registers) {
+      if (r.array_head()) {
+        for (const char* s : {"_OFFSET", "_COUNT", "_WORDS"})
+          c(c_array(map, b, r) + s, array_path(b, r));
+      }
       c(c_register(map, b, r) + "_OFFSET", register_path(b, r));
       c(c_register(map, b, r) + "_RESET", register_path(b, r));
       for (const Field& f : r.fields) {
@@ -93,10 +105,11 @@ void cpp_names(const RegisterMap& map, Names& n) {
           {"kAddressBits", "kDataBits", "kFabricClockHz", "kFabricClockPeriodNs", "spi", "Access",
            "HwAccess", "Enumerator", "Field", "Register", "Reserved", "kRegisters", "kReserved",
            "find", "std", "odoloc", "regs", "ports", "rtl"});
+  n.fixed(Language::kCpp, regs, {"PopWindow", "PopWord", "kPopWindows", "find_pop_word"});
   const std::string ports = "C++ namespace odoloc::ports";
   n.fixed(Language::kCpp, ports,
           {"SInt", "UInt", "rtl", "regs", "std", "odoloc", "ports", "Config", "Pulses", "Status",
-           "decode_config", "decode_pulses", "encode_status"});
+           "decode_config", "decode_pulses", "encode_status", "decode_pops"});
   for (const char* s : {"Config", "Pulses", "Status"}) {
     n.fixed(Language::kCpp, std::string("C++ struct odoloc::ports::") + s,
             {"for_each_field", "for_each_port", "std"});
@@ -113,14 +126,15 @@ void cpp_names(const RegisterMap& map, Names& n) {
     const std::string pb = ports + "::" + b.name;
     n.fixed(Language::kCpp, pb,
             {"Config", "Pulses", "Status", "decode_config", "decode_pulses", "encode_status",
-             "UInt", "SInt", "regs", "std"});
-    std::map<std::string, int> enum_uses;  // as emit_ports() counts them
-    for (const Register& r : b.registers) {
-      for (const Field& f : r.fields)
-        enum_uses[f.name] += f.enums.empty() ? 0 : 1;
-    }
+             "decode_pops", "UInt", "SInt", "regs", "std"});
+    std::map<std::string, int> enum_uses = ports_enum_uses(b);
     for (const Register& r : b.registers) {
       const std::string rp = register_path(b, r);
+      if (r.array_head()) {  // regs.hpp: the array's namespace next to its registers'
+        cpp(bs, r.array, array_path(b, r));
+        n.fixed(Language::kCpp, bs + "::" + r.array,
+                {"kOffset", "kCount", "kWords", "address", "std"});
+      }
       cpp(bs, r.name, rp);
       const std::string rs = bs + "::" + r.name;
       n.fixed(Language::kCpp, rs,
@@ -147,8 +161,12 @@ void cpp_names(const RegisterMap& map, Names& n) {
         cpp(ss, ports_register_type(r.port_name()), group + " (its port struct)");
         const std::string gs = ss + "::" + ports_register_type(r.port_name());
         n.fixed(Language::kCpp, gs, {"for_each_field", "std", "UInt", "SInt"});
-        for (const Field& f : r.fields)
-          cpp(gs, f.name, field_path(b, r, f));
+        if (r.access == Access::kRpop && std::string(s) == "Pulses") {  // one strobe
+          cpp(gs, "pops", group + " (its pops)");
+        } else {
+          for (const Field& f : r.fields)
+            cpp(gs, f.name, field_path(b, r, f));
+        }
       }
     }
   }

@@ -4,6 +4,7 @@
 // words and collisions before anything is written.
 #pragma once
 
+#include <map>
 #include <string>
 #include <string_view>
 
@@ -25,6 +26,10 @@ inline std::string c_block(const RegisterMap& m, const Block& b) {
 // "ODOLOC_EPPM_CFG": a register's macros (OFFSET, RESET).
 inline std::string c_register(const RegisterMap& m, const Block& b, const Register& r) {
   return c_block(m, b) + "_" + upper(r.name);
+}
+// "ODOLOC_TOF_CHANNEL_ENTRY": a register array's macros (OFFSET, COUNT, WORDS).
+inline std::string c_array(const RegisterMap& m, const Block& b, const Register& r) {
+  return c_block(m, b) + "_" + upper(r.array);
 }
 // "ODOLOC_EPPM_CFG_DECODE_MODE": a field's macros (SHIFT, MASK, enumerators).
 inline std::string c_field(const RegisterMap& m, const Block& b, const Register& r,
@@ -66,10 +71,26 @@ inline std::string cpp_enumerator(const std::string& e) {
 inline std::string ports_register_type(const std::string& port_name) {
   return camel(port_name) + "Reg";
 }
+// ports.hpp: per field name, how many registers of the block give it an enum
+// (a register array's elements count once, as element 0).
+inline std::map<std::string, int> ports_enum_uses(const Block& b) {
+  std::map<std::string, int> uses;
+  for (const Register& r : b.registers) {
+    if (r.element != 0)
+      continue;
+    for (const Field& f : r.fields)
+      uses[f.name] += f.enums.empty() ? 0 : 1;
+  }
+  return uses;
+}
 // ports.hpp: a field enum's alias in the block namespace; `clash`: another
-// field of the block with the same name has an enum too.
+// field of the block with the same name has an enum too (then the register
+// names it: a register array's elements by the array, "e3_lo" -> "ELo").
 inline std::string ports_enum_alias(const Register& r, const Field& f, bool clash) {
-  return clash ? camel(r.name) + camel(f.name) : camel(f.name);
+  const std::string reg =
+      r.array.empty() ? r.name
+                      : r.array + r.name.substr(r.array.size() + std::to_string(r.element).size());
+  return clash ? camel(reg) + camel(f.name) : camel(f.name);
 }
 
 // ---- SystemRDL (odoloc.rdl) -----------------------------------------------

@@ -150,7 +150,8 @@ void check_keys(const YAML::Node& n, std::initializer_list<std::string_view> kno
 
 Access access_of(const YAML::Node& node, const std::string& where) {
   const auto name = scalar<std::string>(node, where);
-  for (const Access a : {Access::kRo, Access::kRw, Access::kW1c, Access::kRc, Access::kW1p}) {
+  for (const Access a :
+       {Access::kRo, Access::kRw, Access::kW1c, Access::kRc, Access::kW1p, Access::kRpop}) {
     if (name == to_string(a))
       return a;
   }
@@ -179,8 +180,16 @@ bool legal(Access a, Hw h) {
       return h == Hw::kCount;
     case Access::kW1p:
       return h == Hw::kR;
+    case Access::kRpop:
+      return h == Hw::kW;
   }
   return false;
+}
+
+// Why an (access, hw) pair was refused.
+std::string illegal_pair(Access a, Hw h) {
+  return "access " + std::string(to_string(a)) + " cannot have hw " + to_string(h) +
+         " (legal: rw: r or none; ro: w or none; w1c: set; rc: count; w1p: r; rpop: w)";
 }
 
 std::uint64_t ones(int width) {
@@ -206,11 +215,8 @@ Field parse_field(const YAML::Node& n, Access default_access, Hw default_hw, int
     fail(bits, at + ": field is wider than the " + std::to_string(width) + "-bit register");
   f.access = n["access"] ? access_of(n["access"], at) : default_access;
   f.hw = n["hw"] ? hw_of(n["hw"], at) : default_hw;
-  if (!legal(f.access, f.hw)) {
-    fail(n, at + ": access " + std::string(to_string(f.access)) + " cannot have hw " +
-                to_string(f.hw) +
-                " (legal: rw: r or none; ro: w or none; w1c: set; rc: count; w1p: r)");
-  }
+  if (!legal(f.access, f.hw))
+    fail(n, at + ": " + illegal_pair(f.access, f.hw));
   f.is_signed = n["signed"] && scalar<bool>(n["signed"], at + " signed");
   if (f.is_signed && f.width() < 2)
     fail(n, at + ": a signed field needs at least 2 bits");
@@ -265,49 +271,11 @@ std::optional<Field> slice(const Field& f, int word, int data_bits, const std::s
   return s;
 }
 
-// One register, or the two word registers of a `words: 2` register.
-std::vector<Register> parse_register(const YAML::Node& n, int data_bits, const std::string& block) {
-  Register r;
-  r.name = scalar<std::string>(required(n, "name", block), "name");
-  const std::string at = block + "." + r.name;
-  check_keys(n, {"name", "offset", "access", "hw", "words", "snapshot", "description", "fields"},
-             at);
-  check_name(n, r.name, "register");
-  r.offset = scalar<std::uint32_t>(required(n, "offset", at), at + " offset");
-  if (r.offset > 0xFFFFU)
-    fail(n["offset"], at + ": offset is outside the 16-bit address space");
-  r.access = access_of(required(n, "access", at), at);
-  r.hw = hw_of(required(n, "hw", at), at);
-  if (!legal(r.access, r.hw)) {
-    fail(n["hw"], at + ": access " + std::string(to_string(r.access)) + " cannot have hw " +
-                      to_string(r.hw) +
-                      " (legal: rw: r or none; ro: w or none; w1c: set; rc: count; w1p: r)");
-  }
-  const int words = n["words"] ? scalar<int>(n["words"], at + " words") : 1;
-  if (words != 1 && words != 2)
-    fail(n["words"], at + ": words must be 1 or 2");
-  if (words == 2 && r.access != Access::kRo && r.access != Access::kRw)
-    fail(n["words"], at + ": a words: 2 register must be ro or rw");
-  r.snapshot = n["snapshot"] && scalar<bool>(n["snapshot"], at + " snapshot");
-  r.description = text(n, "description", at);
-  const YAML::Node& fields = required(n, "fields", at);
-  if (!fields.IsSequence() || fields.size() == 0)
-    fail(fields, at + ": needs at least one field");
-  std::set<std::string> names;
-  std::uint64_t used = 0;
-  for (const auto& fn : fields) {
-    Field f = parse_field(fn, r.access, r.hw, words * data_bits, at);
-    check_unique(names, fn, f.name, "field", at);
-    const std::uint64_t mask = ones(f.width()) << f.lsb;
-    if ((used & mask) != 0)
-      fail(fn, at + "." + f.name + ": overlaps another field");
-    used |= mask;
-    if (words == 2 && f.access != r.access)
-      fail(fn, at + "." + f.name + ": fields of a words: 2 register keep its access");
-    r.fields.push_back(std::move(f));
-  }
-  if (words == 1)
-    return {r};
+// The word registers of a `words: 2` register: <name>_lo (bits 31:0, at
+// offset) and <name>_hi (the rest, at offset + 1), each with its slice of
+// every field.
+std::vector<Register> split_words(const Register& r, const YAML::Node& fields, int data_bits,
+                                  const std::string& at) {
   std::vector<Register> out;
   for (int w = 0; w < 2; ++w) {
     const int lo = w * data_bits;
@@ -335,6 +303,111 @@ std::vector<Register> parse_register(const YAML::Node& n, int data_bits, const s
     out.push_back(std::move(wr));
   }
   return out;
+}
+
+// The elements <array>0 .. <array>N-1 of a `count: N` register array: element
+// k is `words` (the word registers of one element, named <array>...) moved
+// by k times their number.
+std::vector<Register> split_elements(const std::vector<Register>& words, const std::string& array,
+                                     int count) {
+  std::vector<Register> out;
+  const auto stride = static_cast<int>(words.size());
+  for (int k = 0; k < count; ++k) {
+    const std::string element = array + std::to_string(k);
+    const std::string note =
+        "Element " + std::to_string(k) + " of " + array + "[" + std::to_string(count) + "].";
+    for (const Register& w : words) {
+      Register e = w;
+      e.name = element + w.name.substr(array.size());  // entry_lo -> entry5_lo
+      e.offset = w.offset + static_cast<std::uint32_t>(k * stride);
+      if (!w.wide.empty()) {
+        e.wide = element;
+        e.wide_description = w.wide_description + (w.wide_description.empty() ? "" : " ") + note;
+      }
+      e.array = array;
+      e.array_description = w.description;
+      e.count = count;
+      e.element = k;
+      e.array_words = stride;
+      e.description = w.description + (w.description.empty() ? "" : " ") + note;
+      out.push_back(std::move(e));
+    }
+  }
+  return out;
+}
+
+// One register; the two word registers of a `words: 2` register; the
+// elements of a `count: N` register array (each one or two words).
+std::vector<Register> parse_register(const YAML::Node& n, int data_bits, const std::string& block) {
+  Register r;
+  r.name = scalar<std::string>(required(n, "name", block), "name");
+  const std::string at = block + "." + r.name;
+  check_keys(
+      n, {"name", "offset", "access", "hw", "words", "count", "snapshot", "description", "fields"},
+      at);
+  check_name(n, r.name, "register");
+  r.offset = scalar<std::uint32_t>(required(n, "offset", at), at + " offset");
+  if (r.offset > 0xFFFFU)
+    fail(n["offset"], at + ": offset is outside the 16-bit address space");
+  r.access = access_of(required(n, "access", at), at);
+  r.hw = hw_of(required(n, "hw", at), at);
+  if (!legal(r.access, r.hw))
+    fail(n["hw"], at + ": " + illegal_pair(r.access, r.hw));
+  const int words = n["words"] ? scalar<int>(n["words"], at + " words") : 1;
+  if (words != 1 && words != 2)
+    fail(n["words"], at + ": words must be 1 or 2");
+  if (words == 2 && r.access != Access::kRo && r.access != Access::kRw && r.access != Access::kRpop)
+    fail(n["words"], at + ": a words: 2 register must be ro, rw or rpop");
+  const int count = n["count"] ? scalar<int>(n["count"], at + " count") : 0;
+  if (n["count"] && (count < 1 || count > 64))
+    fail(n["count"], at + ": count must be 1..64 (the elements of the register array)");
+  r.snapshot = n["snapshot"] && scalar<bool>(n["snapshot"], at + " snapshot");
+  if (r.access == Access::kRpop && !r.snapshot) {
+    fail(n, at + ": an rpop register must be snapshot: true (the frame pops the values it read, "
+                 "captured when it started)");
+  }
+  if (r.access == Access::kRpop && count == 0) {
+    fail(n, at + ": an rpop register needs count: N (it reads a FIFO as an array, element 0 "
+                 "the oldest entry)");
+  }
+  r.description = text(n, "description", at);
+  const YAML::Node& fields = required(n, "fields", at);
+  if (!fields.IsSequence() || fields.size() == 0)
+    fail(fields, at + ": needs at least one field");
+  std::set<std::string> names;
+  std::uint64_t used = 0;
+  for (const auto& fn : fields) {
+    Field f = parse_field(fn, r.access, r.hw, words * data_bits, at);
+    check_unique(names, fn, f.name, "field", at);
+    const std::uint64_t mask = ones(f.width()) << f.lsb;
+    if ((used & mask) != 0)
+      fail(fn, at + "." + f.name + ": overlaps another field");
+    used |= mask;
+    if (words == 2 && f.access != r.access)
+      fail(fn, at + "." + f.name + ": fields of a words: 2 register keep its access");
+    if (r.access == Access::kRpop && f.access != Access::kRpop)
+      fail(fn, at + "." + f.name +
+                   ": every field of an rpop register is rpop (a read pops the "
+                   "whole element)");
+    if (r.access != Access::kRpop && f.access == Access::kRpop)
+      fail(fn, at + "." + f.name +
+                   ": only the fields of an rpop register can be rpop (give the "
+                   "register access: rpop)");
+    r.fields.push_back(std::move(f));
+  }
+  std::vector<Register> out =
+      words == 1 ? std::vector<Register>{r} : split_words(r, fields, data_bits, at);
+  return count == 0 ? out : split_elements(out, r.name, count);
+}
+
+// Where an expanded register came from, for a duplicate name; "" when it
+// was declared as it is.
+std::string origin(const Register& r) {
+  if (!r.array.empty())
+    return "element " + std::to_string(r.element) + " of the register array '" + r.array + "'";
+  if (!r.wide.empty())
+    return "a word of the wide register '" + r.wide + "'";
+  return {};
 }
 
 Block parse_block(const YAML::Node& n, int data_bits) {
@@ -369,13 +442,19 @@ Block parse_block(const YAML::Node& n, int data_bits) {
     if (b.stride == 0 || b.stride > 0xFFFFU)
       fail(n["stride"], b.name + ": stride must be 1..0xffff words");
   }
-  std::set<std::string> names;
+  std::map<std::string, std::string> names;  // register -> where it came from
   const YAML::Node& registers = required(n, "registers", b.name);
   if (!registers.IsSequence())
     fail(registers, b.name + ": registers must be a list");
   for (const auto& rn : registers) {
     for (Register& r : parse_register(rn, data_bits, b.name)) {
-      check_unique(names, rn, r.name, "register", b.name);
+      const auto [it, fresh] = names.emplace(r.name, origin(r));
+      if (!fresh) {
+        const std::string both =
+            it->second + (it->second.empty() || origin(r).empty() ? "" : "; ") + origin(r);
+        fail(rn, "duplicate register '" + r.name + "' in " + b.name +
+                     (both.empty() ? "" : " (" + both + ")"));
+      }
       if (!b.instances.empty() && r.offset >= b.stride) {
         fail(rn, b.name + "." + r.name + ": offset is outside the instance stride");
       }
@@ -422,6 +501,8 @@ const char* to_string(Access a) {
       return "rc";
     case Access::kW1p:
       return "w1p";
+    case Access::kRpop:
+      return "rpop";
   }
   return "?";
 }
@@ -605,6 +686,25 @@ std::vector<RegisterInstance> flatten(const RegisterMap& map) {
   std::sort(out.begin(), out.end(), [](const RegisterInstance& a, const RegisterInstance& b) {
     return a.address < b.address;
   });
+  return out;
+}
+
+std::vector<PopWindow> pop_windows(const RegisterMap& map) {
+  std::vector<PopWindow> out;
+  for (const RegisterInstance& ri : flatten(map)) {
+    const Register& r = *ri.reg;
+    if (!r.array_head() || r.access != Access::kRpop)
+      continue;
+    PopWindow w;
+    w.path = ri.path.substr(0, ri.path.size() - r.name.size()) + r.array;
+    w.first = ri.address;
+    w.entries = r.count;
+    w.words = r.array_words;
+    w.block = ri.block;
+    w.head = &r;
+    w.instance = ri.instance;
+    out.push_back(std::move(w));
+  }
   return out;
 }
 

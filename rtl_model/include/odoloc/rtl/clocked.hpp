@@ -81,6 +81,12 @@ void trace_scope(V& v, std::string_view name, const Child& child) {
   v.leave();
 }
 
+// A register-map enumerator's value, to compare with a field's bits.
+template <class E>
+constexpr auto encoding(E e) {
+  return static_cast<std::uint32_t>(e);
+}
+
 enum class Gating : bool { kOff = false, kOn = true };
 
 // One clock edge of a leaf block. Flattened: eval's next state goes straight

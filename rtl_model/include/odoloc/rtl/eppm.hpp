@@ -16,6 +16,7 @@
 #include "odoloc/ports.hpp"
 #include "odoloc/rtl/bits.hpp"
 #include "odoloc/rtl/clocked.hpp"
+#include "odoloc/rtl/input_conditioner.hpp"
 
 namespace odoloc::rtl {
 
@@ -30,11 +31,6 @@ using EppmConfig = ports::eppm::Config;
 using EppmFlagClear = ports::eppm::Pulses;  // status.<flag>: clear it this clock; an event wins
 using EppmStatus = ports::eppm::Status;
 
-template <class E>
-constexpr auto encoding(E e) {
-  return static_cast<std::uint32_t>(e);
-}
-
 struct EppmInputs {
   UInt<1> a, b;         // encoder pins, asynchronous to the fabric clock
   UInt<1> latch_clear;  // read increment: latch the count and restart it from 0
@@ -44,52 +40,8 @@ struct EppmInputs {
 };
 
 // ---- input conditioning -------------------------------------------------------
-// Per channel: two synchroniser flops, then a level filter. A/B travel packed
-// as a 2-bit value, A in bit 1.
-struct InputConditionerRegs {
-  UInt<2> sync1, sync2, filtered;
-  UInt<8> stable_a, stable_b;  // consecutive samples the level has differed from `filtered`
-  bool operator==(const InputConditionerRegs&) const = default;
-  ODOLOC_FIELDS(sync1, sync2, filtered, stable_a, stable_b)
-};
-
-class InputConditioner : public Registers<InputConditionerRegs> {
- public:
-  struct In {
-    UInt<2> pins;
-    UInt<8> filter_clocks;
-    UInt<1> reset;
-  };
-
-  [[nodiscard]] Regs eval(const In& in) const {
-    if (in.reset)
-      return Regs{};
-    const Channel a =
-        filter(r_.sync2.bit<1>(), r_.filtered.bit<1>(), r_.stable_a, in.filter_clocks);
-    const Channel b =
-        filter(r_.sync2.bit<0>(), r_.filtered.bit<0>(), r_.stable_b, in.filter_clocks);
-    return {in.pins, r_.sync1, cat(a.level, b.level), a.stable, b.stable};
-  }
-  [[nodiscard]] bool idle(const In& in) const {
-    return in.pins == r_.sync1 && r_.sync1 == r_.sync2 && r_.sync2 == r_.filtered &&
-           (r_.stable_a | r_.stable_b | in.reset).is_zero();
-  }
-
- private:
-  struct Channel {
-    UInt<1> level;
-    UInt<8> stable;
-  };
-  // Takes the new level on the N-th consecutive differing sample (N <= 1: the first).
-  static Channel filter(UInt<1> in, UInt<1> level, UInt<8> stable, UInt<8> n) {
-    if (in == level)
-      return {level, UInt<8>{}};
-    const UInt<9> seen = stable + UInt<1>{1};
-    if (seen >= n)
-      return {in, UInt<8>{}};
-    return {level, seen.wrap<8>()};  // seen < n <= 255
-  }
-};
+// A/B travel packed as a 2-bit value, A in bit 1 (input_conditioner.hpp).
+using QuadratureConditioner = InputConditioner<2>;
 
 // ---- quadrature decoder -----------------------------------------------------
 // One entry per (previous, current) A/B pair, index prev*4 + curr, generated
@@ -398,7 +350,7 @@ class Eppm {
   static UInt<2> pins(const In& in, const Config& cfg) {
     return cfg.cfg.reverse ? cat(in.b, in.a) : cat(in.a, in.b);
   }
-  static InputConditioner::In conditioner_in(const In& in, const Config& cfg) {
+  static QuadratureConditioner::In conditioner_in(const In& in, const Config& cfg) {
     return {.pins = pins(in, cfg), .filter_clocks = cfg.cfg.filter_clocks, .reset = in.reset};
   }
   static QuadratureDecoder::In decoder_in(const Wires& w, const In& in) {
@@ -520,7 +472,9 @@ class Eppm {
     return s;
   }
 
-  [[nodiscard]] const InputConditioner::Regs& conditioner() const { return conditioner_.regs(); }
+  [[nodiscard]] const QuadratureConditioner::Regs& conditioner() const {
+    return conditioner_.regs();
+  }
   [[nodiscard]] const QuadratureDecoder::Regs& decoder() const { return decoder_.regs(); }
   [[nodiscard]] const PositionCounter::Regs& counter() const { return counter_.regs(); }
   [[nodiscard]] const SpeedTimebase::Regs& timebase() const { return timebase_.regs(); }
@@ -544,17 +498,15 @@ class Eppm {
   // and the last clock carried no control: nothing but the timebase can move
   // until the pins change, a control arrives, a window ends or a tick comes.
   [[nodiscard]] bool settled() const {
-    const auto& c = conditioner_.regs();
-    return c.sync1 == c.sync2 && c.sync2 == c.filtered && c.filtered == decoder_.regs().prev &&
-           (c.stable_a | c.stable_b | pulse_.regs().sampled | period_.regs().sampled |
-            ports_.latch_clear | ports_.reset)
+    return conditioner_.settled() && conditioner_.regs().filtered == decoder_.regs().prev &&
+           (pulse_.regs().sampled | period_.regs().sampled | ports_.latch_clear | ports_.reset)
                .is_zero() &&
            !any_set(ports_.clear);
   }
 
   EppmInputs ports_;      // the inputs of the last clock, for waveforms
   bool settled_ = false;  // simulator bookkeeping, not a register: settled() after the last clock
-  InputConditioner conditioner_;
+  QuadratureConditioner conditioner_;
   QuadratureDecoder decoder_;
   PositionCounter counter_;
   SpeedTimebase timebase_;

@@ -9,7 +9,10 @@
 //                           (snapshot), status (w1c), error_count
 //   0x060-0x086  odometry   cfg and scales (rw), status (w1c), updates, pose and the
 //                           last update's increments (snapshot), set_* (rw), command (w1p)
-//   0x100-0x1FF  reserved   ultrasonic time-of-flight capture
+//   0x100-0x10F  tof        cfg, info, command (w1p), timestamp, sync FIFO (rpop window)
+//   0x110-0x1CF  tof_channel[8]  stride 0x018: cfg, listening window (rw), status,
+//                           events (snapshot), event FIFO window entry0..7 (rpop)
+//   0x1D0-0x1FF  reserved
 //
 // Access kinds:
 //   rw   stored here; config() decodes the stored words into ports::Config.
@@ -21,6 +24,11 @@
 //   w1p  a 1 pulses the command for one clock; reads 0.
 //   rc   frame_errors: a completed read frame subtracts the value it
 //        returned, so errors counted while the frame ran are kept.
+//   rpop a FIFO window (snapshot): a completed read frame pops the whole
+//        entries it read in order from the window's first word
+//        (ports::Pulses <array>.pops, the next clock); a frame with any error
+//        pops nothing. The block bounds the pops by its level at the frame's
+//        start, so an entry pushed while the frame ran is never popped unread.
 // The top block (spi_status, frame_errors) is this block's own hardware.
 // A write word to an ro or unmapped address is dropped and flags
 // write_refused; the other words of its burst are written.
@@ -77,6 +85,20 @@ constexpr std::array<std::int16_t, kAddressSpace> slot_table() {
   return table;
 }
 
+// Address -> rpop window holding it, -1 elsewhere.
+constexpr std::array<std::int8_t, kAddressSpace> pop_window_table() {
+  std::array<std::int8_t, kAddressSpace> table{};
+  table.fill(-1);
+  for (std::size_t w = 0; w < std::size(regs::kPopWindows); ++w) {
+    const regs::PopWindow& window = regs::kPopWindows[w];
+    for (unsigned k = 0; k < window.entries * window.words; ++k)
+      table[window.first + k] = static_cast<std::int8_t>(w);
+  }
+  return table;
+}
+
+inline constexpr std::size_t kPopWindowCount = std::size(regs::kPopWindows);
+inline constexpr auto kPopWindow = pop_window_table();
 inline constexpr std::size_t kStoredWords = slot_count<is_stored>();
 inline constexpr std::size_t kSnapshotWords = slot_count<is_snapshot>();
 inline constexpr auto kStoredSlot = slot_table<is_stored>();
@@ -105,9 +127,12 @@ struct FabricRegistersRegs {
   UInt<4> spi_status;              // sticky top.spi_status
   UInt<16> frame_errors;           // top.frame_errors, saturating
   UInt<16> frame_errors_returned;  // what this frame's read of frame_errors returned
-  ports::Pulses pulses;            // one clock: w1c clears and w1p commands to the fabric
+  // Per rpop window: words this frame has read in order from its first word.
+  std::array<UInt<7>, regfile::kPopWindowCount> pop_words{};
+  ports::Pulses pulses;  // one clock: w1c clears, w1p commands and rpop pops to the fabric
   bool operator==(const FabricRegistersRegs&) const = default;
-  ODOLOC_FIELDS(stored, snapshot, spi_status, frame_errors, frame_errors_returned, pulses)
+  ODOLOC_FIELDS(stored, snapshot, spi_status, frame_errors, frame_errors_returned, pop_words,
+                pulses)
 };
 
 class FabricRegisters : public Registers<FabricRegistersRegs> {
@@ -131,9 +156,12 @@ class FabricRegisters : public Registers<FabricRegistersRegs> {
           n.snapshot[snapshot_slot(r.address)] =
               UInt<32>{ports::encode_status(r.address, in.status)};
       n.frame_errors_returned = UInt<16>{};
+      n.pop_words = {};
     }
     if (spi.read_strobe && spi.read_address.value() == regs::top::frame_errors::kAddress)
       n.frame_errors_returned = regfile::field<regs::top::frame_errors::count>(in.read_data);
+    if (spi.read_strobe)
+      count_pop_word(n, spi.read_address);
     bool refused = false;
     if (spi.commit && spi.commit_write) {
       for (unsigned k = 0; k < spi.commit_count.value(); ++k)
@@ -141,6 +169,7 @@ class FabricRegisters : public Registers<FabricRegistersRegs> {
     } else if (spi.commit) {
       n.frame_errors =
           UInt<16>::truncate(n.frame_errors.value() - r_.frame_errors_returned.value());
+      pop_read_entries(n);
     }
     // top.spi_status is this block's own: written clears act at once, before
     // the flags of the frame that wrote them are added.
@@ -237,6 +266,27 @@ class FabricRegisters : public Registers<FabricRegistersRegs> {
   }
   [[nodiscard]] UInt<32> stored_word(std::size_t address) const {
     return r_.stored[static_cast<std::size_t>(regfile::kStoredSlot[address])];
+  }
+
+  // A read of the next word of an rpop window, in order from its first word.
+  static void count_pop_word(Regs& n, UInt<10> address) {
+    const auto a = static_cast<std::size_t>(address.value());
+    const int w = regfile::kPopWindow[a];
+    if (w < 0)
+      return;
+    UInt<7>& words = n.pop_words[static_cast<std::size_t>(w)];
+    if (a == regs::kPopWindows[w].first + words.value())
+      words = (words + UInt<1>{1}).wrap<7>();
+  }
+  // A completed read frame: each window pops the whole entries it read.
+  static void pop_read_entries(Regs& n) {
+    for (std::size_t w = 0; w < regfile::kPopWindowCount; ++w) {
+      const regs::PopWindow& window = regs::kPopWindows[w];
+      const unsigned entries = static_cast<unsigned>(n.pop_words[w].value()) / window.words;
+      if (entries != 0)
+        ports::decode_pops(window.first, entries, n.pulses);
+      n.pop_words[w] = UInt<7>{};
+    }
   }
 
   // Applies one written word; false when the address takes no write.

@@ -18,6 +18,7 @@
 #include <concepts>
 #include <cstddef>
 #include <string_view>
+#include <tuple>
 
 #include "odoloc/rtl/bits.hpp"
 
@@ -91,12 +92,26 @@ struct is_std_array : std::false_type {};
 template <class T, std::size_t N>
 struct is_std_array<std::array<T, N>> : std::true_type {};
 
-// "0", "1", ...: names of array elements inside the array's scope.
-inline constexpr std::array<std::string_view, 64> kIndexNames = {
-    "0",  "1",  "2",  "3",  "4",  "5",  "6",  "7",  "8",  "9",  "10", "11", "12", "13", "14", "15",
-    "16", "17", "18", "19", "20", "21", "22", "23", "24", "25", "26", "27", "28", "29", "30", "31",
-    "32", "33", "34", "35", "36", "37", "38", "39", "40", "41", "42", "43", "44", "45", "46", "47",
-    "48", "49", "50", "51", "52", "53", "54", "55", "56", "57", "58", "59", "60", "61", "62", "63"};
+// "0", "1", ... "255": names of array elements inside the array's scope,
+// built at compile time (the register file's word arrays are the longest).
+inline constexpr std::size_t kMaxIndexNames = 256;
+struct IndexNames {
+  std::array<char, kMaxIndexNames * 4> text{};  // up to three digits and a NUL each
+  constexpr IndexNames() {
+    for (std::size_t i = 0; i < kMaxIndexNames; ++i) {
+      char* p = &text[i * 4];
+      if (i >= 100)
+        *p++ = static_cast<char>('0' + i / 100);
+      if (i >= 10)
+        *p++ = static_cast<char>('0' + i / 10 % 10);
+      *p = static_cast<char>('0' + i % 10);
+    }
+  }
+  [[nodiscard]] constexpr std::string_view operator[](std::size_t i) const {
+    return {&text[i * 4]};
+  }
+};
+inline constexpr IndexNames kIndexNames{};
 }  // namespace detail
 
 // Names one value for a waveform: a UInt/SInt is a signal; a struct with a
@@ -109,7 +124,7 @@ void trace_value(V& v, std::string_view name, const T& value) {
     visit_fields(value, [&](std::string_view n, const auto& m) { trace_value(v, n, m); });
     v.leave();
   } else if constexpr (detail::is_std_array<T>::value) {
-    static_assert(std::tuple_size_v<T> <= detail::kIndexNames.size());
+    static_assert(std::tuple_size_v<T> <= detail::kMaxIndexNames);
     v.enter(name);
     for (std::size_t i = 0; i < value.size(); ++i)
       trace_value(v, detail::kIndexNames[i], value[i]);

@@ -1,5 +1,6 @@
-// The whole FPGA: the odometry fabric, its register file and the SPI slave on
-// one 50 MHz clock. Pins in, MISO out; the only door is SPI (docs/spi.md).
+// The whole FPGA: the odometry fabric, the ultrasonic time-of-flight capture
+// unit, the register file and the SPI slave on one 50 MHz clock. Pins in,
+// MISO out; the only door is SPI (docs/spi.md).
 #pragma once
 
 #include <array>
@@ -7,16 +8,24 @@
 #include "odoloc/rtl/fabric_registers.hpp"
 #include "odoloc/rtl/odometry_fabric.hpp"
 #include "odoloc/rtl/spi_slave.hpp"
+#include "odoloc/rtl/tof_capture.hpp"
 
 namespace odoloc::rtl {
 
+using ChipTofCapture = TofCapture<>;  // every channel of the register map, 16-entry FIFOs
+static_assert(ChipTofCapture::kDepth == regs::tof::info::fifo_depth.reset &&
+                  ChipTofCapture::kChannels == regs::tof::info::channels.reset,
+              "tof.info's reset documents the chip's build");
+
 struct ChipPins {
   std::array<UInt<2>, kEncoderCount> encoders{};  // A/B per encoder, A in bit 1
+  UInt<ChipTofCapture::kChannels> comparators;    // ultrasonic receivers, rx i in bit i
+  UInt<1> tof_sync;                               // TOF sync input (RF trigger)
   UInt<1> sclk;
   UInt<1> cs_n{1};
   UInt<1> mosi;
   UInt<1> reset;
-  ODOLOC_FIELDS(encoders, sclk, cs_n, mosi, reset)
+  ODOLOC_FIELDS(encoders, comparators, tof_sync, sclk, cs_n, mosi, reset)
 };
 
 class OdolocChip {
@@ -27,14 +36,18 @@ class OdolocChip {
   // The wires into every child, from the current registers only.
   struct Wires {
     OdometryFabric::In fabric;
+    ChipTofCapture::In tof;
     SpiSlave::In spi;
     FabricRegisters::In registers;
   };
   [[nodiscard]] Wires wires(const In& pins) const {
     const SpiRegisterPort port = spi_.port();
     // The fabric's status is needed only by a snapshot or a read.
-    const ports::Status status =
-        (port.snapshot | port.read_strobe) ? fabric_.status(config_) : ports::Status{};
+    ports::Status status;
+    if (port.snapshot | port.read_strobe) {
+      status = fabric_.status(config_);
+      tof_.status(status);
+    }
     const UInt<32> read_data =
         port.read_strobe ? registers_.read(port.read_address, status) : UInt<32>{};
     const ports::Pulses& pulses = registers_.regs().pulses;
@@ -43,6 +56,13 @@ class OdolocChip {
                    .eppm = pulses.eppm,
                    .odometry = pulses.odometry,
                    .reset = pins.reset},
+        .tof = {.comparators = pins.comparators,
+                .sync = pins.tof_sync,
+                .tof = pulses.tof,
+                .channel = pulses.tof_channel,
+                .snapshot = port.snapshot,
+                .clear_all = pulses.odometry.command.clear_flags,
+                .reset = pins.reset},
         .spi = {.sclk = pins.sclk,
                 .cs_n = pins.cs_n,
                 .mosi = pins.mosi,
@@ -70,24 +90,30 @@ class OdolocChip {
     // file is idle, the fabric's strobes are all 0 and the slave reads nothing.
     if (G == Gating::kOn && registers_.quiet(spi_.strobing(), pins.reset)) {
       idle_fabric_in_.pins = pins.encoders;
+      idle_tof_in_.comparators = pins.comparators;
+      idle_tof_in_.sync = pins.tof_sync;
       order([&] { fabric_.step<G>(idle_fabric_in_, config_, order); },
+            [&] { tof_.step<G>(idle_tof_in_, config_, order); },
             [&] { clock_block<G>(spi_, spi_in); });
       return;
     }
     const Wires w = wires(pins);
     const bool writes = (w.registers.spi.commit & w.registers.spi.commit_write) == UInt<1>{1};
-    order([&] { fabric_.step<G>(w.fabric, config_, order); }, [&] { clock_block<G>(spi_, w.spi); },
+    order([&] { fabric_.step<G>(w.fabric, config_, order); },
+          [&] { tof_.step<G>(w.tof, config_, order); }, [&] { clock_block<G>(spi_, w.spi); },
           [&] { clock_block<G>(registers_, w.registers); });
     if (writes || pins.reset)  // the configuration ports decode the stored words
       config_ = registers_.config();
   }
   [[nodiscard]] bool idle(const In& pins) const {
     const Wires w = wires(pins);
-    return fabric_.idle(w.fabric, config_) && spi_.idle(w.spi) && registers_.idle(w.registers);
+    return fabric_.idle(w.fabric, config_) && tof_.idle(w.tof, config_) && spi_.idle(w.spi) &&
+           registers_.idle(w.registers);
   }
 
   void reset_now() {
     fabric_.reset_now();
+    tof_.reset_now();
     spi_.reset_now();
     registers_.reset_now();
     config_ = registers_.config();
@@ -95,6 +121,7 @@ class OdolocChip {
 
   [[nodiscard]] UInt<1> miso() const { return spi_.regs().miso; }
   [[nodiscard]] const OdometryFabric& fabric() const { return fabric_; }
+  [[nodiscard]] const ChipTofCapture& tof() const { return tof_; }
   [[nodiscard]] const SpiSlave& spi() const { return spi_; }
   [[nodiscard]] const FabricRegisters& registers() const { return registers_; }
   // The configuration ports: registers().config(), kept decoded.
@@ -107,10 +134,12 @@ class OdolocChip {
     trace_scope(v, "spi", spi_);
     trace_scope(v, "registers", registers_);
     trace_scope(v, "fabric", fabric_);
+    trace_scope(v, "tof", tof_);
   }
 
  private:
   OdometryFabric fabric_;
+  ChipTofCapture tof_;
   SpiSlave spi_;
   FabricRegisters registers_;
   // registers_.config(), refreshed whenever a write or reset changes the
@@ -118,6 +147,7 @@ class OdolocChip {
   // simulation speed.
   ports::Config config_;
   OdometryFabric::In idle_fabric_in_;  // the fabric's inputs when no strobe is pending
+  ChipTofCapture::In idle_tof_in_;     // the capture unit's inputs when no strobe is pending
   ChipPins spi_pins_;                  // the pins of the last clock, for waveforms
 };
 

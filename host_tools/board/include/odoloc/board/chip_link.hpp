@@ -18,9 +18,10 @@ namespace odoloc::board {
 
 class ChipLink final : public sw::SpiLink {
  public:
-  // Sets the encoder pins before every clock; empty: they stay as they are.
+  // Sets the sensor pins (encoders, ultrasonic comparators, TOF sync) before
+  // every clock; empty: they stay as they are. The SPI pins are the master's.
   using EncoderPins = decltype(rtl::ChipPins::encoders);
-  using Stimulus = std::function<void(EncoderPins&)>;
+  using Stimulus = std::function<void(rtl::ChipPins&)>;
 
   explicit ChipLink(SpiMasterConfig config, Stimulus stimulus = {})
       : master_(config), stimulus_(std::move(stimulus)) {}
@@ -74,7 +75,7 @@ class ChipLink final : public sw::SpiLink {
   // One fabric clock with these SPI pin levels; returns MISO after it.
   rtl::UInt<1> clock(rtl::UInt<1> sclk, rtl::UInt<1> cs_n, rtl::UInt<1> mosi) {
     if (stimulus_)
-      stimulus_(pins_.encoders);
+      stimulus_(pins_);
     pins_.sclk = sclk;
     pins_.cs_n = cs_n;
     pins_.mosi = mosi;

@@ -17,7 +17,11 @@ class RegmapError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-enum class Access : std::uint8_t { kRo, kRw, kW1c, kRc, kW1p };
+// What software may do: ro, rw, w1c (write 1 to clear), rc (read to clear),
+// w1p (write 1 for a one-clock pulse), rpop (read pops: read only, and a read
+// frame that completes without error pops the elements of the register array
+// it read in order from element 0 off the hardware's FIFO).
+enum class Access : std::uint8_t { kRo, kRw, kW1c, kRc, kW1p, kRpop };
 const char* to_string(Access a);
 
 // What the hardware does with a field (OpenTitan hwaccess, SystemRDL hw):
@@ -27,7 +31,7 @@ const char* to_string(Access a);
 //   count  increments a counter (rc)
 //   none   no connection: scratch storage, or a constant (ro: the reset value)
 // Legal with each access: rw {r, none}, ro {w, none}, w1c {set}, rc {count},
-// w1p {r}.
+// w1p {r}, rpop {w}.
 enum class Hw : std::uint8_t { kR, kW, kSet, kCount, kNone };
 const char* to_string(Hw h);
 
@@ -63,12 +67,32 @@ struct Register {
   std::string wide;
   std::string wide_description;
   int word = 0;
+  // A word of element `element` of a `count: N` register array (the element
+  // registers <array>0 .. <array>N-1 at offset + k * array_words): the
+  // array's name, this word's description without the element, N, and the
+  // words per element (the element stride). Empty `array`: not an element.
+  std::string array;
+  std::string array_description;
+  int count = 0, element = 0, array_words = 0;
   [[nodiscard]] std::uint32_t reset() const;
   [[nodiscard]] std::uint32_t mask(Access a) const;  // the bits of fields with access a
   [[nodiscard]] std::uint32_t mask(Hw h) const;      // the bits of fields with hw h
   [[nodiscard]] std::uint32_t const_mask() const;    // ro fields with hw none: constants
-  // The name of the hardware port group: the wide name for a word register.
-  [[nodiscard]] const std::string& port_name() const { return wide.empty() ? name : wide; }
+  // The name of the hardware port group: the array name for an element, the
+  // wide name for a word register.
+  [[nodiscard]] const std::string& port_name() const {
+    return !array.empty() ? array : wide.empty() ? name : wide;
+  }
+  // The port group as a member expression: "entry[5]" for an element.
+  [[nodiscard]] std::string port_member() const {
+    return array.empty() ? port_name() : array + "[" + std::to_string(element) + "]";
+  }
+  // The first word of element 0: where an array is declared once.
+  [[nodiscard]] bool array_head() const { return !array.empty() && element == 0 && word == 0; }
+  // The offset of element 0's first word.
+  [[nodiscard]] std::uint32_t array_offset() const {
+    return offset - static_cast<std::uint32_t>(element * array_words + word);
+  }
 };
 
 struct Block {
@@ -112,14 +136,28 @@ struct RegisterInstance {
   int instance = -1;  // index into block->instances, -1 for single blocks
 };
 
+// The FIFO behind one rpop register array in one block instance: `entries`
+// elements of `words` words from word address `first` (element 0's first word).
+struct PopWindow {
+  std::string path;  // "tof_channel.rx3.entry"
+  std::uint32_t first = 0;
+  int entries = 0, words = 0;
+  const Block* block = nullptr;
+  const Register* head = nullptr;  // element 0's first word
+  int instance = -1;
+};
+
 // Parses and checks: duplicate names, overlapping addresses or fields, fields
 // outside the data width, resets and enum values that do not fit their field,
-// illegal (access, hw) pairs, bad clock or SPI facts. Expands every
-// `words: 2` register into its `<name>_lo` and `<name>_hi` word registers.
+// illegal (access, hw) pairs, bad clock or SPI facts, rpop rules. Expands
+// every `count: N` register into its elements <name>0 .. <name>N-1, and
+// every `words: 2` register (or element) into its `_lo` and `_hi` words.
 RegisterMap parse(const std::string& yaml_text);
 RegisterMap load(const std::string& path);
 // Every register instance, by address.
 std::vector<RegisterInstance> flatten(const RegisterMap& map);
+// Every rpop array of every block instance, by address.
+std::vector<PopWindow> pop_windows(const RegisterMap& map);
 
 // The generated artefacts.
 std::string emit_cpp(const RegisterMap& map);

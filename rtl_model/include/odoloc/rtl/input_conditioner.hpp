@@ -1,0 +1,86 @@
+// Input conditioning of asynchronous pins: two synchroniser flops, then a
+// level filter per line. One piece of logic for every pin bank of the fabric:
+// the EPPM's A/B pair (docs/eppm.md) and the ultrasonic comparators and sync
+// input of the TOF capture unit (docs/tof-capture.md).
+//
+// Per line, a counter of consecutive samples whose level differs from the
+// filtered level; the new level is taken on the N-th such sample (N =
+// max(filter_clocks, 1)) and any sample equal to the filtered level restarts
+// the count. A pulse of N clocks passes, one of N-1 clocks is rejected. A pin
+// change first applied in clock t reaches `filtered` at the edge ending clock
+// t+N+1 (docs/eppm.md, "Input conditioning and latency").
+#pragma once
+
+#include <array>
+#include <cstddef>
+
+#include "odoloc/rtl/bits.hpp"
+#include "odoloc/rtl/clocked.hpp"
+
+namespace odoloc::rtl {
+
+// Lines travel packed, line i in bit i.
+template <int Lines>
+struct InputConditionerRegs {
+  UInt<Lines> sync1, sync2, filtered;
+  std::array<UInt<8>, Lines> stable{};  // per line: consecutive samples differing from `filtered`
+  bool operator==(const InputConditionerRegs&) const = default;
+  ODOLOC_FIELDS(sync1, sync2, filtered, stable)
+};
+
+template <int Lines>
+class InputConditioner : public Registers<InputConditionerRegs<Lines>> {
+  using Base = Registers<InputConditionerRegs<Lines>>;
+  using Base::r_;
+
+ public:
+  using Regs = typename Base::Regs;
+  struct In {
+    UInt<Lines> pins;
+    UInt<8> filter_clocks;
+    UInt<1> reset;
+  };
+
+  [[nodiscard]] Regs eval(const In& in) const {
+    if (in.reset)
+      return Regs{};
+    Regs n{.sync1 = in.pins, .sync2 = r_.sync1, .filtered = r_.filtered, .stable = {}};
+    std::uint64_t filtered = 0;
+    for (std::size_t i = 0; i < Lines; ++i) {
+      const Line line =
+          filter(UInt<1>::truncate(r_.sync2.value() >> i),
+                 UInt<1>::truncate(r_.filtered.value() >> i), r_.stable[i], in.filter_clocks);
+      filtered |= line.level.value() << i;
+      n.stable[i] = line.stable;
+    }
+    n.filtered = UInt<Lines>::truncate(filtered);
+    return n;
+  }
+  // Every stage holds the pins and no filter count runs.
+  [[nodiscard]] bool settled() const {
+    bool counting = false;
+    for (const UInt<8>& s : r_.stable)
+      counting |= !s.is_zero();
+    return r_.sync1 == r_.sync2 && r_.sync2 == r_.filtered && !counting;
+  }
+  [[nodiscard]] bool idle(const In& in) const {
+    return in.pins == r_.sync1 && in.reset.is_zero() && settled();
+  }
+
+ private:
+  struct Line {
+    UInt<1> level;
+    UInt<8> stable;
+  };
+  // Takes the new level on the N-th consecutive differing sample (N <= 1: the first).
+  static Line filter(UInt<1> in, UInt<1> level, UInt<8> stable, UInt<8> n) {
+    if (in == level)
+      return {level, UInt<8>{}};
+    const UInt<9> seen = stable + UInt<1>{1};
+    if (seen >= n)
+      return {in, UInt<8>{}};
+    return {level, seen.wrap<8>()};  // seen < n <= 255
+  }
+};
+
+}  // namespace odoloc::rtl
