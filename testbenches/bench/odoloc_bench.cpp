@@ -8,6 +8,8 @@
 #include "odoloc/regs.hpp"
 #include "odoloc/rtl/encoder_fabric.hpp"
 #include "odoloc/sw/spi_frame.hpp"
+#include "odoloc/world/acoustic_systems.hpp"
+#include "odoloc/world/acoustics.hpp"
 #include "odoloc/world/quadrature_source.hpp"
 #include "odometry_bench.hpp"
 
@@ -98,6 +100,40 @@ void BM_OdolocChip_CycleStep(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<std::int64_t>(link.clocks()));
 }
 BENCHMARK(BM_OdolocChip_CycleStep);
+
+// The same chip with the ultrasonic capture unit armed on all eight
+// channels, during Kleeman's beacon cycles (the acoustic world's envelope
+// comparators on the pins, echoes included), the encoders moving as above;
+// no SPI. Compare with BM_OdolocChip_CycleStep: the channels' share.
+void BM_OdolocChip_CycleStep_BeaconCycle(benchmark::State& state) {
+  namespace world = odoloc::world;
+  const world::AcousticWorld room = world::kleeman_world();
+  const world::KleemanTiming timing;
+  const world::AcousticRun run =
+      world::simulate(room, world::kleeman_schedule(timing, 1), world::stationary({4.0, 3.0, 0.3}),
+                      timing.cycle_s(), 1);
+  world::AcousticPins acoustic(run, world::ComparatorKind::kEnvelope);
+  std::array<QuadratureSource, 4> sources{QuadratureSource(0.004), QuadratureSource(0.0004),
+                                          QuadratureSource(0.02), QuadratureSource(-0.00004)};
+  odoloc::board::ChipLink link({.half_period = 4}, [&](auto& pins) {
+    for (std::size_t w = 0; w < 4; ++w)
+      pins.encoders[w] = encoder_pins(sources[w].tick());
+    pins.comparators = decltype(pins.comparators)::truncate(acoustic.tick().channels);
+  });
+  odoloc::sw::SpiRegisterBus bus(link, {.crc = false, .confirm_writes = false});
+  bus.write(odoloc::regs::tof::command::kAddress, odoloc::regs::tof::command::arm.set(0, 0xFF));
+  const std::uint64_t start = link.clocks();
+  for (auto _ : state) {
+    link.advance(1024);
+    if (acoustic.clock() >= static_cast<std::uint64_t>(timing.cycle_s() * 50e6)) {
+      state.PauseTiming();
+      acoustic.skip_to(0);  // the next cycle: the same waveforms again
+      state.ResumeTiming();
+    }
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(link.clocks() - start));
+}
+BENCHMARK(BM_OdolocChip_CycleStep_BeaconCycle);
 
 // Register reads through the sim target: SoC bus -> frame codec -> pin-level
 // master -> chip, 32-word bursts at the fastest legal SCLK (6.25 MHz).

@@ -130,9 +130,10 @@ struct FabricRegistersRegs {
   // Per rpop window: words this frame has read in order from its first word.
   std::array<UInt<7>, regfile::kPopWindowCount> pop_words{};
   ports::Pulses pulses;  // one clock: w1c clears, w1p commands and rpop pops to the fabric
+  UInt<1> pulsing;       // any of `pulses` is high (their OR, registered with them)
   bool operator==(const FabricRegistersRegs&) const = default;
   ODOLOC_FIELDS(stored, snapshot, spi_status, frame_errors, frame_errors_returned, pop_words,
-                pulses)
+                pulses, pulsing)
 };
 
 class FabricRegisters : public Registers<FabricRegistersRegs> {
@@ -183,13 +184,14 @@ class FabricRegisters : public Registers<FabricRegistersRegs> {
       if (!errors.is_zero())
         n.frame_errors = (n.frame_errors + UInt<1>{1}).sat<16>();
     }
+    n.pulsing = UInt<1>::truncate(any_set(n.pulses));
     return n;
   }
 
   // Cheap: no strobe from the slave, no reset, none of this block's own
   // one-clock outputs pending.
   [[nodiscard]] bool quiet(bool spi_strobing, UInt<1> reset) const {
-    return !spi_strobing && reset.is_zero() && !any_set(r_.pulses);
+    return !spi_strobing && (reset | r_.pulsing).is_zero();
   }
   [[nodiscard]] bool idle(const In& in) const { return quiet(in.spi.active(), in.reset); }
 

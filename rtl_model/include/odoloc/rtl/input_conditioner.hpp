@@ -44,16 +44,23 @@ class InputConditioner : public Registers<InputConditionerRegs<Lines>> {
   [[nodiscard]] Regs eval(const In& in) const {
     if (in.reset)
       return Regs{};
+    // A line whose synchronised sample equals its filtered level restarts
+    // its count (0, the initialiser); only the others run the filter.
     Regs n{.sync1 = in.pins, .sync2 = r_.sync1, .filtered = r_.filtered, .stable = {}};
-    std::uint64_t filtered = 0;
+    const std::uint64_t differ = (r_.sync2 ^ r_.filtered).value();
+    if (differ == 0)
+      return n;
+    std::uint64_t flips = 0;
     for (std::size_t i = 0; i < Lines; ++i) {
-      const Line line =
-          filter(UInt<1>::truncate(r_.sync2.value() >> i),
-                 UInt<1>::truncate(r_.filtered.value() >> i), r_.stable[i], in.filter_clocks);
-      filtered |= line.level.value() << i;
-      n.stable[i] = line.stable;
+      if (((differ >> i) & 1U) == 0)
+        continue;
+      const UInt<9> seen = r_.stable[i] + UInt<1>{1};
+      if (seen >= in.filter_clocks)  // the N-th differing sample (N <= 1: the first)
+        flips |= std::uint64_t{1} << i;
+      else
+        n.stable[i] = seen.template wrap<8>();  // seen < N <= 255
     }
-    n.filtered = UInt<Lines>::truncate(filtered);
+    n.filtered = UInt<Lines>::truncate(r_.filtered.value() ^ flips);
     return n;
   }
   // Every stage holds the pins and no filter count runs.
@@ -65,21 +72,6 @@ class InputConditioner : public Registers<InputConditionerRegs<Lines>> {
   }
   [[nodiscard]] bool idle(const In& in) const {
     return in.pins == r_.sync1 && in.reset.is_zero() && settled();
-  }
-
- private:
-  struct Line {
-    UInt<1> level;
-    UInt<8> stable;
-  };
-  // Takes the new level on the N-th consecutive differing sample (N <= 1: the first).
-  static Line filter(UInt<1> in, UInt<1> level, UInt<8> stable, UInt<8> n) {
-    if (in == level)
-      return {level, UInt<8>{}};
-    const UInt<9> seen = stable + UInt<1>{1};
-    if (seen >= n)
-      return {in, UInt<8>{}};
-    return {level, seen.wrap<8>()};  // seen < n <= 255
   }
 };
 

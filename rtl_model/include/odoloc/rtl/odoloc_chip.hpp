@@ -77,7 +77,7 @@ class OdolocChip {
 
   template <Gating G = Gating::kOn, class Order = DeclarationOrder>
   void step(const In& pins, const Order& order = {}) {
-    spi_pins_ = pins;
+    record_pins(pins);
     const SpiSlave::In spi_in{.sclk = pins.sclk,
                               .cs_n = pins.cs_n,
                               .mosi = pins.mosi,
@@ -89,21 +89,16 @@ class OdolocChip {
     // No SPI strobe and no pulse pending (the common case): the register
     // file is idle, the fabric's strobes are all 0 and the slave reads nothing.
     if (G == Gating::kOn && registers_.quiet(spi_.strobing(), pins.reset)) {
-      idle_fabric_in_.pins = pins.encoders;
+      for (std::size_t w = 0; w < kEncoderCount; ++w)  // per pin: see record_pins
+        idle_fabric_in_.pins[w] = pins.encoders[w];
       idle_tof_in_.comparators = pins.comparators;
       idle_tof_in_.sync = pins.tof_sync;
       order([&] { fabric_.step<G>(idle_fabric_in_, config_, order); },
-            [&] { tof_.step<G>(idle_tof_in_, config_, order); },
+            [&] { tof_.step_pins<G>(idle_tof_in_, config_, order); },
             [&] { clock_block<G>(spi_, spi_in); });
       return;
     }
-    const Wires w = wires(pins);
-    const bool writes = (w.registers.spi.commit & w.registers.spi.commit_write) == UInt<1>{1};
-    order([&] { fabric_.step<G>(w.fabric, config_, order); },
-          [&] { tof_.step<G>(w.tof, config_, order); }, [&] { clock_block<G>(spi_, w.spi); },
-          [&] { clock_block<G>(registers_, w.registers); });
-    if (writes || pins.reset)  // the configuration ports decode the stored words
-      config_ = registers_.config();
+    step_all<G>(pins, order);
   }
   [[nodiscard]] bool idle(const In& pins) const {
     const Wires w = wires(pins);
@@ -138,6 +133,32 @@ class OdolocChip {
   }
 
  private:
+  // Field by field: testbenches set the pins one field at a time just before
+  // the clock, and one wide copy of them would stall on store forwarding.
+  void record_pins(const ChipPins& pins) {
+    for (std::size_t w = 0; w < kEncoderCount; ++w)
+      spi_pins_.encoders[w] = pins.encoders[w];
+    spi_pins_.comparators = pins.comparators;
+    spi_pins_.tof_sync = pins.tof_sync;
+    spi_pins_.sclk = pins.sclk;
+    spi_pins_.cs_n = pins.cs_n;
+    spi_pins_.mosi = pins.mosi;
+    spi_pins_.reset = pins.reset;
+  }
+
+  // A clock with a strobe or pulse: out of line, so the quiet clocks do not
+  // pay for its large frame (the wires carry the whole status).
+  template <Gating G, class Order>
+  [[gnu::noinline]] void step_all(const In& pins, const Order& order) {
+    const Wires w = wires(pins);
+    const bool writes = (w.registers.spi.commit & w.registers.spi.commit_write) == UInt<1>{1};
+    order([&] { fabric_.step<G>(w.fabric, config_, order); },
+          [&] { tof_.step<G>(w.tof, config_, order); }, [&] { clock_block<G>(spi_, w.spi); },
+          [&] { clock_block<G>(registers_, w.registers); });
+    if (writes || pins.reset)  // the configuration ports decode the stored words
+      config_ = registers_.config();
+  }
+
   OdometryFabric fabric_;
   ChipTofCapture tof_;
   SpiSlave spi_;

@@ -386,13 +386,21 @@ class TofCapture {
 
   template <Gating G = Gating::kOn, class Order = DeclarationOrder>
   void step(const In& in, const Config& cfg, const Order& order = {}) {
-    // Fast path: every channel has seen the settled inputs and nothing is
-    // commanded, so only the timebase moves (an epoch may end a pulse's
-    // exact-width range: full path).
-    if (G == Gating::kOn && settled_ && pins(in) == conditioner_.regs().filtered &&
-        !timebase_.epoch(cfg.tof.cfg.prescale) &&
-        (in.snapshot | in.clear_all | in.reset).is_zero() && !any_set(in.tof) &&
+    if ((in.snapshot | in.clear_all | in.reset).is_zero() && !any_set(in.tof) &&
         !any_set(in.channel)) {
+      step_pins<G>(in, cfg, order);
+      return;
+    }
+    step_all<G>(in, cfg, order);
+  }
+  // One clock whose inputs carry no control (no command, frame, pop, clear or
+  // reset: the chip's quiet clocks), only pins. Fast path: every channel has
+  // seen the settled inputs, so only the timebase moves (an epoch may end a
+  // pulse's exact-width range: full path).
+  template <Gating G = Gating::kOn, class Order = DeclarationOrder>
+  void step_pins(const In& in, const Config& cfg, const Order& order = {}) {
+    if (G == Gating::kOn && settled_ && pins(in) == conditioner_.regs().filtered &&
+        !timebase_.epoch(cfg.tof.cfg.prescale)) {
       order([&] { clock_block<G>(timebase_, timebase_in(in, cfg)); });
       return;
     }
