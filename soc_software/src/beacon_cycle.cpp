@@ -414,20 +414,7 @@ Flags BeaconCycleDecoder::incident_flags(double from_s, double until_s, int chan
       continue;
     if (s.channel != channel)
       continue;
-    switch (s.kind) {
-      case IncidentKind::kOverflow:
-        f.set(Flag::kOverflow);
-        break;
-      case IncidentKind::kLostEvents:
-        f.set(Flag::kLostEvents);
-        break;
-      case IncidentKind::kStuckHigh:
-        f.set(Flag::kStuckChannel);
-        break;
-      case IncidentKind::kUnwrapAmbiguous:
-        f.set(Flag::kUnwrapAmbiguous);
-        break;
-    }
+    f.set(incident_flag(s.kind));
   }
   return f;
 }

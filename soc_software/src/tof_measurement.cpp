@@ -108,4 +108,18 @@ std::string to_string(Flags flags) {
   return out.empty() ? "none" : out;
 }
 
+Flag incident_flag(IncidentKind kind) {
+  switch (kind) {
+    case IncidentKind::kOverflow:
+      return Flag::kOverflow;
+    case IncidentKind::kLostEvents:
+      return Flag::kLostEvents;
+    case IncidentKind::kStuckHigh:
+      return Flag::kStuckChannel;
+    case IncidentKind::kUnwrapAmbiguous:
+      return Flag::kUnwrapAmbiguous;
+  }
+  return Flag::kInvalid;
+}
+
 }  // namespace odoloc::sw::tof

@@ -32,20 +32,7 @@ Flags incident_flags(std::span<const Incident> incidents, int channel, Tick from
     const Tick lo = std::min(in.from, in.until), hi = std::max(in.from, in.until);
     if (!(lo < until && hi >= from))
       continue;
-    switch (in.kind) {
-      case IncidentKind::kOverflow:
-        f.set(Flag::kOverflow);
-        break;
-      case IncidentKind::kLostEvents:
-        f.set(Flag::kLostEvents);
-        break;
-      case IncidentKind::kStuckHigh:
-        f.set(Flag::kStuckChannel);
-        break;
-      case IncidentKind::kUnwrapAmbiguous:
-        f.set(Flag::kUnwrapAmbiguous);
-        break;
-    }
+    f.set(incident_flag(in.kind));
   }
   return f;
 }

@@ -14,6 +14,7 @@
 #include "odoloc/regs.hpp"
 #include "odoloc/sw/spi_frame.hpp"
 #include "odoloc/world/quadrature_source.hpp"
+#include "register_by_path.hpp"
 
 namespace {
 
@@ -33,12 +34,7 @@ constexpr std::uint32_t kCrcError = regs::top::spi_status::crc_error.mask();
 constexpr std::uint32_t kBadLength = regs::top::spi_status::bad_length.mask();
 constexpr std::uint32_t kOverrun = regs::top::spi_status::overrun.mask();
 
-const regs::Register& reg(std::string_view path) {
-  const regs::Register* r = regs::find(path);
-  if (r == nullptr)
-    throw std::invalid_argument(std::string{path});
-  return *r;
-}
+using odoloc::tb::reg;
 bool writable(const regs::Register& r) {
   return (r.rw_mask | r.w1c_mask | r.w1p_mask) != 0;
 }

@@ -386,6 +386,14 @@ TEST(TofCapture, GatedAndUngatedAgreeEveryClock) {
   }
 }
 
+// Frames (a snapshot, then pops), flushes and flag clears at random.
+FifoControl random_fifo_control(Rng& rng) {
+  return {.snapshot = UInt<1>::truncate(one_in(rng, 40)),
+          .pops = UInt<6>::truncate(one_in(rng, 40) ? rng() % 9 : 0),
+          .flush = UInt<1>::truncate(one_in(rng, 500)),
+          .clear_overflow = UInt<1>::truncate(one_in(rng, 60))};
+}
+
 TEST(LeafIdleContract, TofChannel) {
   UInt<1> comparator;
   ports::tof_channel::Config cfg = channel_config(TofMode::kEnvelope, 3);
@@ -417,10 +425,7 @@ TEST(LeafIdleContract, TofChannel) {
                            .cfg = cfg,
                            .arm = UInt<1>::truncate(one_in(rng, 50)),
                            .disarm = UInt<1>::truncate(one_in(rng, 80)),
-                           .fifo = {.snapshot = UInt<1>::truncate(one_in(rng, 40)),
-                                    .pops = UInt<6>::truncate(one_in(rng, 40) ? rng() % 9 : 0),
-                                    .flush = UInt<1>::truncate(one_in(rng, 500)),
-                                    .clear_overflow = UInt<1>::truncate(one_in(rng, 60))},
+                           .fifo = random_fifo_control(rng),
                            .reset = UInt<1>::truncate(one_in(rng, 1000))};
       });
   EXPECT_GT(idle_share, 0.05);
@@ -440,15 +445,11 @@ TEST(LeafIdleContract, TofSync) {
       [&](Rng& rng) {
         if (one_in(rng, 8))
           sync = random_uint<1>(rng);
-        return TofSync<kDepth>::In{
-            .sync = sync,
-            .timestamp = random_uint<32>(rng),
-            .enable = UInt<1>::truncate(!one_in(rng, 10)),
-            .fifo = {.snapshot = UInt<1>::truncate(one_in(rng, 40)),
-                     .pops = UInt<6>::truncate(one_in(rng, 40) ? rng() % 9 : 0),
-                     .flush = UInt<1>::truncate(one_in(rng, 500)),
-                     .clear_overflow = UInt<1>::truncate(one_in(rng, 60))},
-            .reset = UInt<1>::truncate(one_in(rng, 1000))};
+        return TofSync<kDepth>::In{.sync = sync,
+                                   .timestamp = random_uint<32>(rng),
+                                   .enable = UInt<1>::truncate(!one_in(rng, 10)),
+                                   .fifo = random_fifo_control(rng),
+                                   .reset = UInt<1>::truncate(one_in(rng, 1000))};
       });
   EXPECT_GT(idle_share, 0.05);
 }

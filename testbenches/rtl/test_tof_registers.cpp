@@ -14,6 +14,7 @@
 #include "odoloc/board/chip_link.hpp"
 #include "odoloc/regs.hpp"
 #include "odoloc/sw/spi_frame.hpp"
+#include "register_by_path.hpp"
 
 namespace {
 
@@ -25,12 +26,7 @@ using odoloc::sw::SpiOp;
 using odoloc::sw::SpiRegisterBus;
 using Words = std::vector<std::uint32_t>;
 
-const regs::Register& reg(std::string_view path) {
-  const regs::Register* r = regs::find(path);
-  if (r == nullptr)
-    throw std::invalid_argument(std::string{path});
-  return *r;
-}
+using odoloc::tb::reg;
 std::string channel_reg(unsigned channel, std::string_view name) {
   return "tof_channel." + std::string{regs::tof_channel::kInstanceNames[channel]} + "." +
          std::string{name};

@@ -252,6 +252,10 @@ class Flags {
   std::uint64_t bits_ = 0;
 };
 
+// The flag a measurement gets when its interval overlaps an incident of
+// this kind (overflow, lost events, stuck channel, unwrap ambiguous).
+Flag incident_flag(IncidentKind kind);
+
 // "kMissing", ... (without the k in to_string: "missing|echoes").
 std::string_view flag_name(Flag f);
 std::string to_string(Flags flags);
