@@ -53,7 +53,7 @@ void ReceiverArray::validate() const {
 }
 
 namespace {
-constexpr std::array<std::pair<Flag, std::string_view>, 32> kFlagNames{{
+constexpr std::array<std::pair<Flag, std::string_view>, 33> kFlagNames{{
     {Flag::kMissing, "missing"},
     {Flag::kEarlyRejected, "early_rejected"},
     {Flag::kEchoSuspect, "echo_suspect"},
@@ -86,6 +86,7 @@ constexpr std::array<std::pair<Flag, std::string_view>, 32> kFlagNames{{
     {Flag::kWeak, "weak"},
     {Flag::kOutOfRange, "out_of_range"},
     {Flag::kInvalid, "invalid"},
+    {Flag::kCycleUnverified, "cycle_unverified"},
 }};
 }  // namespace
 

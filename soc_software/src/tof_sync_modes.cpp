@@ -4,6 +4,7 @@
 #include <cmath>
 #include <complex>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -226,7 +227,11 @@ void BinauralConfig::validate() const {
             at + "channels must be two different ones in 0..31");
     require(finite_positive(p.baseline_m), o, at + "baseline_m must be finite and positive");
     require(finite_positive(p.carrier_hz), o, at + "carrier_hz must be finite and positive");
+    require(p.left_envelope >= -1 && p.left_envelope < 32 && p.right_envelope >= -1 &&
+                p.right_envelope < 32,
+            o, at + "envelope channels must be -1 (none) or 0..31");
   }
+  envelope.validate("BinauralConfig.envelope");
   require(std::isfinite(fixed_delay_s), o, "fixed_delay_s must be finite");
   require(edges >= 1 && edges <= 127, o, "edges (K) must be 1..127");
   require(finite_positive(max_tof_s), o, "max_tof_s must be finite and positive");
@@ -307,6 +312,31 @@ EdgeTrain edge_train(const BinauralConfig& config, const Timebase& timebase, Tic
 
 }  // namespace
 
+namespace {
+
+// The rise-time-compensated arrival of the first envelope pulse on
+// `channel` after `reference`, seconds after it; nullopt without one.
+std::optional<double> envelope_arrival(const BinauralConfig& config, const Timebase& timebase,
+                                       Tick reference, std::span<const ChannelEvents> channels,
+                                       int channel) {
+  if (channel < 0)
+    return std::nullopt;
+  check_channels("measure_binaural", channel, channels);
+  const ChannelEvents& ev = channels[static_cast<std::size_t>(channel)];
+  if (ev.mode != ChannelMode::kEnvelope)
+    return std::nullopt;
+  for (const EnvelopeEvent& e : ev.envelope) {
+    if (e.rise < reference || e.saturated())
+      continue;
+    const double width_s = static_cast<double>(e.width) * timebase.tick_s();
+    return timebase.edge_time_s(e.rise, reference) - timebase.edge_time_s(reference, reference) -
+           config.envelope.invert_width(width_s).delay_s;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 BinauralMeasurement measure_binaural(const BinauralConfig& config, const Timebase& timebase,
                                      Tick reference, std::span<const ChannelEvents> channels,
                                      std::span<const Incident> incidents) {
@@ -338,6 +368,15 @@ BinauralMeasurement measure_binaural(const BinauralConfig& config, const Timebas
     r.tof_left_s = l.t.front() - l.k.front() / f - config.fixed_delay_s;
     r.tof_right_s = rt.t.front() - rt.k.front() / f - config.fixed_delay_s;
     r.coarse_difference_s = r.tof_left_s - r.tof_right_s;
+    // The envelopes, when wired, decide the whole periods instead.
+    const std::optional<double> envelope_left =
+        envelope_arrival(config, timebase, reference, channels, pair.left_envelope);
+    const std::optional<double> envelope_right =
+        envelope_arrival(config, timebase, reference, channels, pair.right_envelope);
+    if (envelope_left && envelope_right)
+      r.coarse_difference_s = *envelope_left - *envelope_right;
+    else
+      r.flags.set(Flag::kCycleUnverified);
     // Fine: circular mean over the edge indices both recorded.
     std::complex<double> sum = 0;
     for (std::size_t i = 0, j = 0; i < l.t.size() && j < rt.t.size();) {

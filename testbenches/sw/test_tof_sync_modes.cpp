@@ -304,7 +304,9 @@ TEST(Binaural, PhaseDifferenceResolvedByTheCoarseTime) {
     const auto m = tof::measure_binaural(binaural_config(w), w.cap.timebase(), w.cap.tick(ref), ch);
     ASSERT_EQ(m.pairs.size(), 1U);
     const auto& p = m.pairs[0];
-    EXPECT_FALSE(p.flags.any()) << tof::to_string(p.flags);
+    // Carrier edges only: right here (the synthetic onsets are exact), but
+    // nothing proved the whole periods.
+    EXPECT_EQ(p.flags, tof::Flags{tof::Flag::kCycleUnverified}) << tof::to_string(p.flags);
     EXPECT_EQ(p.edges_used, 8);
     const LD truth = w.path(0) - w.path(1);
     EXPECT_NEAR(p.path_difference_m, static_cast<double>(truth), 20e-6);  // 20 um

@@ -221,6 +221,10 @@ enum class Flag : std::uint64_t {
   kWeak = 1ULL << 29,              // amplitude barely over threshold: compensation least certain
   kOutOfRange = 1ULL << 30,        // arrival outside the physically possible interval
   kInvalid = 1ULL << 31,           // no usable value (see the other flags)
+  // Binaural: the whole carrier periods rest on the two carriers' first
+  // edges alone (no envelope channels), which unequal amplitudes at the two
+  // receivers can shift by whole periods.
+  kCycleUnverified = 1ULL << 32,
 };
 
 class Flags {

@@ -98,6 +98,13 @@ struct BinauralPair {
   int left = 0, right = 1;
   double baseline_m = 0.35;  // the paper's receivers are 350 mm apart
   double carrier_hz = 40e3;
+  // The same two receivers' envelope comparators on two more channels
+  // (envelope mode), or -1. With them the whole carrier periods come from
+  // the rise-time-compensated envelope arrivals (a few microseconds, well
+  // inside half a period); without them from the carriers' first edges,
+  // which an amplitude difference between the receivers shifts by whole
+  // periods: such results carry kCycleUnverified.
+  int left_envelope = -1, right_envelope = -1;
 };
 
 struct BinauralConfig {
@@ -113,6 +120,7 @@ struct BinauralConfig {
   // |coarse - resolved| beyond this many periods: kAmbiguous (0.5 is a coin toss).
   double ambiguity_limit = 0.3;
   double speed_of_sound_mps = 343.2;
+  EnvelopeModel envelope;  // of the envelope channels (burst_s: the chirp's length)
 
   void validate() const;
 };
