@@ -13,6 +13,8 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
+#include <utility>
 
 #include "odoloc/rtl/bits.hpp"
 #include "odoloc/rtl/clocked.hpp"
@@ -51,27 +53,40 @@ class InputConditioner : public Registers<InputConditionerRegs<Lines>> {
     if (differ == 0)
       return n;
     std::uint64_t flips = 0;
-    for (std::size_t i = 0; i < Lines; ++i) {
-      if (((differ >> i) & 1U) == 0)
-        continue;
-      const UInt<9> seen = r_.stable[i] + UInt<1>{1};
-      if (seen >= in.filter_clocks)  // the N-th differing sample (N <= 1: the first)
-        flips |= std::uint64_t{1} << i;
-      else
-        n.stable[i] = seen.template wrap<8>();  // seen < N <= 255
+    // Unrolled with constant indices, so the compiler keeps the counters in
+    // registers instead of a stack array.
+    [&]<std::size_t... I>(std::index_sequence<I...>) {
+      (filter_line<I>(differ, in.filter_clocks, n, flips), ...);
     }
+    (std::make_index_sequence<Lines>{});
     n.filtered = UInt<Lines>::truncate(r_.filtered.value() ^ flips);
     return n;
   }
   // Every stage holds the pins and no filter count runs.
   [[nodiscard]] bool settled() const {
-    bool counting = false;
-    for (const UInt<8>& s : r_.stable)
-      counting |= !s.is_zero();
+    const bool counting = [&]<std::size_t... I>(std::index_sequence<I...>) {
+      return (... || !r_.stable[I].is_zero());
+    }
+    (std::make_index_sequence<Lines>{});
     return r_.sync1 == r_.sync2 && r_.sync2 == r_.filtered && !counting;
   }
   [[nodiscard]] bool idle(const In& in) const {
     return in.pins == r_.sync1 && in.reset.is_zero() && settled();
+  }
+
+ private:
+  // Line I differs from its filtered level: takes the new level on the N-th
+  // consecutive differing sample (N <= 1: the first), else counts it.
+  template <std::size_t I>
+  void filter_line(std::uint64_t differ, UInt<8> filter_clocks, Regs& n,
+                   std::uint64_t& flips) const {
+    if (((differ >> I) & 1U) == 0)
+      return;
+    const UInt<9> seen = r_.stable[I] + UInt<1>{1};
+    if (seen >= filter_clocks)
+      flips |= std::uint64_t{1} << I;
+    else
+      n.stable[I] = seen.template wrap<8>();  // seen < N <= 255
   }
 };
 
