@@ -46,21 +46,16 @@ class InputConditioner : public Registers<InputConditionerRegs<Lines>> {
   [[nodiscard]] Regs eval(const In& in) const {
     if (in.reset)
       return Regs{};
-    // A line whose synchronised sample equals its filtered level restarts
-    // its count (0, the initialiser); only the others run the filter.
-    Regs n{.sync1 = in.pins, .sync2 = r_.sync1, .filtered = r_.filtered, .stable = {}};
-    const std::uint64_t differ = (r_.sync2 ^ r_.filtered).value();
-    if (differ == 0)
-      return n;
-    std::uint64_t flips = 0;
-    // Unrolled with constant indices, so the compiler keeps the counters in
-    // registers instead of a stack array.
-    [&]<std::size_t... I>(std::index_sequence<I...>) {
-      (filter_line<I>(differ, in.filter_clocks, n, flips), ...);
+    // One aggregate of scalars, so the next state stays in registers.
+    return [&]<std::size_t... I>(std::index_sequence<I...>) {
+      const std::array<Line, Lines> lines{filter_line<I>(in.filter_clocks)...};
+      return InputConditionerRegs<Lines>{
+          .sync1 = in.pins,
+          .sync2 = r_.sync1,
+          .filtered = UInt<Lines>::truncate(((std::uint64_t{lines[I].level.value()} << I) | ...)),
+          .stable = {lines[I].stable...}};
     }
     (std::make_index_sequence<Lines>{});
-    n.filtered = UInt<Lines>::truncate(r_.filtered.value() ^ flips);
-    return n;
   }
   // Every stage holds the pins and no filter count runs.
   [[nodiscard]] bool settled() const {
@@ -75,18 +70,22 @@ class InputConditioner : public Registers<InputConditionerRegs<Lines>> {
   }
 
  private:
-  // Line I differs from its filtered level: takes the new level on the N-th
-  // consecutive differing sample (N <= 1: the first), else counts it.
+  struct Line {
+    UInt<1> level;
+    UInt<8> stable;
+  };
+  // Line I: a sample equal to the filtered level restarts the count; the
+  // N-th consecutive differing one (N <= 1: the first) is taken.
   template <std::size_t I>
-  void filter_line(std::uint64_t differ, UInt<8> filter_clocks, Regs& n,
-                   std::uint64_t& flips) const {
-    if (((differ >> I) & 1U) == 0)
-      return;
+  [[nodiscard]] Line filter_line(UInt<8> filter_clocks) const {
+    const auto sample = UInt<1>::truncate(r_.sync2.value() >> I);
+    const auto level = UInt<1>::truncate(r_.filtered.value() >> I);
+    if (sample == level)
+      return {level, UInt<8>{}};
     const UInt<9> seen = r_.stable[I] + UInt<1>{1};
     if (seen >= filter_clocks)
-      flips |= std::uint64_t{1} << I;
-    else
-      n.stable[I] = seen.template wrap<8>();  // seen < N <= 255
+      return {sample, UInt<8>{}};
+    return {level, seen.template wrap<8>()};  // seen < N <= 255
   }
 };
 
