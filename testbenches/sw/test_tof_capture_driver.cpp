@@ -148,6 +148,12 @@ TEST(TofCaptureDriver, ConfiguresArmsAndSetsWindows) {
   expect_setup(bus, s, 1000);
   tof::CaptureDriver driver(bus, s);
   EXPECT_EQ(driver.timebase().input_latency_clocks, 7U);
+  EXPECT_EQ(driver.fifo_depth(), 16U);
+  // now(): the counter read without draining, unwrapped past the 2^32 wrap.
+  bus.expect_read("tof.timestamp", {500});
+  const tof::Tick now = driver.now();
+  EXPECT_EQ(now, (tof::Tick{2} << 32) + 500);
+  EXPECT_EQ(tof::CaptureDriver::wrapped(now), 500U);
   bus.expect_write("tof.command", {regs::tof::command::arm.set(0, 0b100100)});
   driver.arm(0b100100);
   bus.expect_write("tof.command", {regs::tof::command::disarm.set(0, 0b100)});
