@@ -1,0 +1,678 @@
+#include "odoloc/sw/multilateration.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <Eigen/QR>
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+#include <string>
+
+namespace odoloc::sw::locate {
+
+double speed_of_sound_mps(double temperature_c) {
+  constexpr double kC0 = 331.3;
+  constexpr double kZeroCelsius = 273.15;
+  return temperature_c < -kZeroCelsius ? kNaN : kC0 * std::sqrt(1.0 + temperature_c / kZeroCelsius);
+}
+
+double speed_of_sound_slope(double temperature_c) {
+  constexpr double kZeroCelsius = 273.15;
+  return speed_of_sound_mps(temperature_c) / (2.0 * (kZeroCelsius + temperature_c));
+}
+
+void MultilaterationOptions::validate() const {
+  const auto fail = [](const std::string& field) {
+    throw std::invalid_argument("MultilaterationOptions: " + field);
+  };
+  if (temperature_c &&
+      !(std::isfinite(*temperature_c) && *temperature_c > -100 && *temperature_c < 100))
+    fail("temperature_c must be within -100..100 C");
+  if (!(std::isfinite(temperature_sd_c) && temperature_sd_c > 0))
+    fail("temperature_sd_c must be finite and positive");
+  if (!(std::isfinite(speed_of_sound_tolerance) && speed_of_sound_tolerance >= 0 &&
+        speed_of_sound_tolerance < 0.5))
+    fail("speed_of_sound_tolerance must be within 0..0.5");
+  if (min_beacons_to_calibrate < 5)
+    fail("min_beacons_to_calibrate must be at least 5 (four unknowns and one redundancy)");
+  if (!(std::isfinite(min_sd_m) && min_sd_m > 0))
+    fail("min_sd_m must be finite and positive");
+  if (max_iterations < 1 || max_iterations > 1000)
+    fail("max_iterations must be 1..1000");
+  if (!(std::isfinite(step_tolerance_m) && step_tolerance_m > 0))
+    fail("step_tolerance_m must be finite and positive");
+  if (!(max_outside_hull_m >= 0))
+    fail("max_outside_hull_m must be non-negative");
+  if (!(std::isfinite(inlier_sigmas) && inlier_sigmas > 0 && std::isfinite(inlier_floor_m) &&
+        inlier_floor_m >= 0))
+    fail("inlier_sigmas must be positive and inlier_floor_m non-negative");
+  if (!(std::isfinite(residual_gate_sigmas) && residual_gate_sigmas > 0))
+    fail("residual_gate_sigmas must be finite and positive");
+  if (max_hypotheses < 1)
+    fail("max_hypotheses must be at least 1");
+  if (prior_position_m &&
+      !(std::isfinite(prior_position_m->x) && std::isfinite(prior_position_m->y)))
+    fail("prior_position_m must be finite");
+  if (!(std::isfinite(mirror_margin_m) && mirror_margin_m >= 0))
+    fail("mirror_margin_m must be finite and non-negative");
+}
+
+namespace {
+
+constexpr int kMaxState = 4;  // x, y, o, k
+using StateVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxState, 1>;
+using StateMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxState, kMaxState>;
+using Row = Eigen::Matrix<double, kMaxState, 1>;
+
+double distance(Vec2 a, Vec2 b) {
+  return std::hypot(a.x - b.x, a.y - b.y);
+}
+
+// The diagonal of the beacons' bounding box.
+double extent_m(const BeaconLayout& layout) {
+  double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+  for (const Beacon& b : layout.beacons) {
+    x0 = std::min(x0, b.position_m.x);
+    x1 = std::max(x1, b.position_m.x);
+    y0 = std::min(y0, b.position_m.y);
+    y1 = std::max(y1, b.position_m.y);
+  }
+  return layout.beacons.empty() ? 0.0 : std::hypot(x1 - x0, y1 - y0);
+}
+
+// r_i(P) and its gradient with respect to P.
+struct RangeGradient {
+  double range;
+  double gx, gy;
+};
+RangeGradient range_gradient(const Beacon& b, Vec2 p) {
+  const double dx = p.x - b.position_m.x;
+  const double dy = p.y - b.position_m.y;
+  const double r = std::sqrt(dx * dx + dy * dy + b.height_m * b.height_m);
+  return r > 0 ? RangeGradient{r, dx / r, dy / r} : RangeGradient{0, 0, 0};
+}
+
+// The Jacobian row of d_i = k r_i + o over (x, y, o[, k]).
+Row jacobian_row(const RangeGradient& g, double k) {
+  Row row;
+  row << k * g.gx, k * g.gy, 1.0, g.range;
+  return row;
+}
+
+struct State {
+  Vec2 p;
+  double o = 0;
+  double k = 1;
+};
+
+// Everything the fit knows besides the observations.
+struct Model {
+  const BeaconLayout* layout;
+  bool calibrate = false;  // k is a state
+  double k_prior = 1;      // k when fixed; the prior's mean when calibrating
+  double k_prior_sd = 0;   // 0: no prior (calibrating on the data alone)
+  // Range error the consensus tolerates besides the noise: a relative error
+  // of k shifts d_i - d_j by up to that fraction of the layout's extent (the
+  // triples are solved at k_prior). Nonzero only when calibrating.
+  double consensus_slack_m = 0;
+  [[nodiscard]] int dimension() const { return calibrate ? 4 : 3; }
+};
+
+double residual(const Model& model, const Observation& obs, const State& s) {
+  const Beacon& b = model.layout->beacons[static_cast<std::size_t>(obs.beacon)];
+  return obs.distance_m - (s.k * range_gradient(b, s.p).range + s.o);
+}
+
+// sum of squared normalised residuals, the k prior included.
+double cost(const Model& model, std::span<const Observation> obs, const State& s) {
+  double c = 0;
+  for (const Observation& o : obs) {
+    const double e = residual(model, o, s) / o.sd_m;
+    c += e * e;
+  }
+  if (model.calibrate && model.k_prior_sd > 0) {
+    const double e = (s.k - model.k_prior) / model.k_prior_sd;
+    c += e * e;
+  }
+  return c;
+}
+
+// Normal equations N = J^T W J and g = J^T W e at s (weights 1/sd^2, or 1
+// with unit_weights for the dilution of precision).
+void normal_equations(const Model& model, std::span<const Observation> obs, const State& s,
+                      bool unit_weights, StateMatrix& n, StateVector& g) {
+  const int dim = model.dimension();
+  n.setZero(dim, dim);
+  g.setZero(dim);
+  for (const Observation& o : obs) {
+    const RangeGradient rg =
+        range_gradient(model.layout->beacons[static_cast<std::size_t>(o.beacon)], s.p);
+    const Row j = jacobian_row(rg, s.k);
+    const double w = unit_weights ? 1.0 : 1.0 / (o.sd_m * o.sd_m);
+    const auto jd = j.head(dim);
+    n.noalias() += w * jd * jd.transpose();
+    g.noalias() += w * (o.distance_m - (s.k * rg.range + s.o)) * jd;
+  }
+  if (model.calibrate && model.k_prior_sd > 0 && !unit_weights) {
+    const double w = 1.0 / (model.k_prior_sd * model.k_prior_sd);
+    n(3, 3) += w;
+    g(3) += w * (model.k_prior - s.k);
+  }
+}
+
+// The inverse of a symmetric positive definite matrix, or nothing when it is
+// not numerically positive definite (Cholesky pivots spanning more than 13
+// decades: a direction the measurements do not constrain).
+std::optional<StateMatrix> spd_inverse(const StateMatrix& n) {
+  const Eigen::LLT<StateMatrix> llt(n);
+  if (llt.info() != Eigen::Success)
+    return std::nullopt;
+  const auto pivots = llt.matrixLLT().diagonal().cwiseAbs2();
+  if (!(pivots.minCoeff() > pivots.maxCoeff() * 1e-13))
+    return std::nullopt;
+  StateMatrix inverse = llt.solve(StateMatrix::Identity(n.rows(), n.cols()));
+  if (!inverse.allFinite())
+    return std::nullopt;
+  return inverse;
+}
+
+struct FitResult {
+  State state;
+  int iterations = 0;
+  bool converged = false;
+  bool singular = false;
+};
+
+// Weighted Gauss-Newton with Levenberg-Marquardt damping from `start`.
+FitResult gauss_newton(const Model& model, std::span<const Observation> obs, State start,
+                       const MultilaterationOptions& options) {
+  FitResult fit{start};
+  const int dim = model.dimension();
+  double current = cost(model, obs, fit.state);
+  double lambda = 1e-6;
+  StateMatrix n;
+  StateVector g;
+  for (int it = 0; it < options.max_iterations; ++it) {
+    fit.iterations = it + 1;
+    normal_equations(model, obs, fit.state, false, n, g);
+    bool accepted = false;
+    double step_m = 0;
+    while (lambda < 1e12) {
+      StateMatrix damped = n;
+      damped.diagonal() *= 1.0 + lambda;
+      const Eigen::LDLT<StateMatrix> ldlt(damped);
+      if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) {
+        fit.singular = true;
+        return fit;
+      }
+      const StateVector delta = ldlt.solve(g);
+      if (!delta.allFinite()) {
+        fit.singular = true;
+        return fit;
+      }
+      State next = fit.state;
+      next.p.x += delta(0);
+      next.p.y += delta(1);
+      next.o += delta(2);
+      if (dim == 4)
+        next.k += delta(3);
+      step_m = std::hypot(delta(0), delta(1));
+      const double next_cost = cost(model, obs, next);
+      if (next_cost <= current) {
+        fit.state = next;
+        current = next_cost;
+        lambda = std::max(lambda / 10, 1e-9);
+        accepted = true;
+        break;
+      }
+      if (step_m < options.step_tolerance_m) {  // at the minimum to rounding
+        fit.converged = true;
+        return fit;
+      }
+      lambda *= 10;
+    }
+    if (!accepted)
+      return fit;
+    if (step_m < options.step_tolerance_m) {
+      fit.converged = true;
+      return fit;
+    }
+  }
+  return fit;
+}
+
+// Unknowns (x, y, o/k) from the n-1 differences to the first observation,
+// linear least squares (Chan's first stage, unweighted): the start point
+// with four or more observations.
+std::optional<State> linear_start(const BeaconLayout& layout, std::span<const Observation> obs,
+                                  double k) {
+  const int rows = static_cast<int>(obs.size()) - 1;
+  if (rows < 3)
+    return std::nullopt;
+  Eigen::MatrixX3d a(rows, 3);
+  Eigen::VectorXd rhs(rows);
+  const Beacon& b0 = layout.beacons[static_cast<std::size_t>(obs[0].beacon)];
+  const double d0 = obs[0].distance_m / k;
+  const double e0 = b0.position_m.x * b0.position_m.x + b0.position_m.y * b0.position_m.y +
+                    b0.height_m * b0.height_m;
+  for (int i = 0; i < rows; ++i) {
+    const Observation& o = obs[static_cast<std::size_t>(i) + 1];
+    const Beacon& b = layout.beacons[static_cast<std::size_t>(o.beacon)];
+    const double d = o.distance_m / k;
+    const double e =
+        b.position_m.x * b.position_m.x + b.position_m.y * b.position_m.y + b.height_m * b.height_m;
+    a.row(i) << 2 * (b.position_m.x - b0.position_m.x), 2 * (b.position_m.y - b0.position_m.y),
+        -2 * (d - d0);
+    rhs(i) = e - e0 - d * d + d0 * d0;
+  }
+  const Eigen::Vector3d x = a.colPivHouseholderQr().solve(rhs);
+  if (!x.allFinite() || a.colPivHouseholderQr().rank() < 3)
+    return std::nullopt;
+  return State{{x(0), x(1)}, x(2) * k, k};
+}
+
+struct Consensus {
+  State state;
+  std::vector<Observation> inliers;
+  double score = -1;  // inliers minus the truncated normalised cost share
+};
+
+}  // namespace
+
+TripleSolutions solve_triple_closed_form(const BeaconLayout& layout,
+                                         std::span<const Observation, 3> obs, double k) {
+  TripleSolutions out;
+  if (!(std::isfinite(k) && k > 0))
+    return out;
+  // D_i = d_i/k = r_i + q with q = o/k. Differences to beacon 0 are linear
+  // in P for a given q: 2 (b_i - b_0) . P = 2 q (D_i - D_0) + K_i, so
+  // P = p0 + q v; then (D_0 - q)^2 = |P - b_0|^2 + h_0^2 is quadratic in q.
+  std::array<const Beacon*, 3> b{};
+  std::array<double, 3> d{};
+  for (std::size_t i = 0; i < 3; ++i) {
+    b[i] = &layout.beacons.at(static_cast<std::size_t>(obs[i].beacon));
+    d[i] = obs[i].distance_m / k;
+  }
+  const auto energy = [](const Beacon& x) {
+    return x.position_m.x * x.position_m.x + x.position_m.y * x.position_m.y +
+           x.height_m * x.height_m;
+  };
+  Eigen::Matrix2d a;
+  Eigen::Vector2d kv;
+  Eigen::Vector2d dv;
+  for (int i = 0; i < 2; ++i) {
+    const Beacon& bi = *b[static_cast<std::size_t>(i) + 1];
+    const double di = d[static_cast<std::size_t>(i) + 1];
+    a.row(i) << 2 * (bi.position_m.x - b[0]->position_m.x),
+        2 * (bi.position_m.y - b[0]->position_m.y);
+    kv(i) = energy(bi) - energy(*b[0]) - di * di + d[0] * d[0];
+    dv(i) = 2 * (di - d[0]);
+  }
+  const double det = a.determinant();
+  const double scale = a.cwiseAbs().maxCoeff();
+  if (!(std::abs(det) > 1e-9 * scale * scale))
+    return out;  // collinear beacons
+  const Eigen::Matrix2d inv = a.inverse();
+  const Eigen::Vector2d p0 = inv * kv;
+  const Eigen::Vector2d v = inv * dv;
+  const Eigen::Vector2d w = p0 - Eigen::Vector2d(b[0]->position_m.x, b[0]->position_m.y);
+  const double qa = v.squaredNorm() - 1.0;
+  const double qb = 2.0 * (w.dot(v) + d[0]);
+  const double qc = w.squaredNorm() + b[0]->height_m * b[0]->height_m - d[0] * d[0];
+  std::array<double, 2> roots{};
+  int root_count = 0;
+  if (std::abs(qa) < 1e-12) {
+    if (std::abs(qb) > 0)
+      roots[root_count++] = -qc / qb;
+  } else {
+    const double disc = qb * qb - 4 * qa * qc;
+    if (disc >= 0) {
+      // The numerically stable pair of roots.
+      const double t = -0.5 * (qb + std::copysign(std::sqrt(disc), qb));
+      roots[root_count++] = t / qa;
+      if (t != 0 && disc > 0)
+        roots[root_count++] = qc / t;
+    }
+  }
+  for (int r = 0; r < root_count; ++r) {
+    const double q = roots[static_cast<std::size_t>(r)];
+    if (!std::isfinite(q))
+      continue;
+    bool physical = true;  // every range r_i = D_i - q at least the beacon's height
+    for (std::size_t i = 0; i < 3; ++i)
+      physical = physical && d[i] - q >= b[i]->height_m - 1e-9 * (1 + std::abs(d[i]));
+    if (!physical)
+      continue;
+    const Eigen::Vector2d p = p0 + q * v;
+    out.solutions[static_cast<std::size_t>(out.count++)] = {{p(0), p(1)}, q * k};
+  }
+  return out;
+}
+
+namespace {
+
+// The candidates of each usable beacon: primary first, then its echoes.
+struct BeaconCandidates {
+  std::vector<Observation> options;
+};
+
+// Best consensus over triples of primaries (exhaustive or seeded sample).
+Consensus find_consensus(const Model& model, const std::vector<BeaconCandidates>& beacons,
+                         const MultilaterationOptions& options, bool& any_geometry) {
+  Consensus best;
+  const std::size_t n = beacons.size();
+  const auto score_hypothesis = [&](const State& s) {
+    Consensus c{s, {}, 0};
+    double truncated = 0;
+    for (const BeaconCandidates& bc : beacons) {
+      const Observation* chosen = nullptr;
+      double chosen_norm = 0;
+      for (std::size_t k = 0; k < bc.options.size(); ++k) {
+        const Observation& o = bc.options[k];
+        // A primary that agrees and is not suspect stands; alternatives are
+        // tried when it is suspect or disagrees.
+        const double range =
+            range_gradient(model.layout->beacons[static_cast<std::size_t>(o.beacon)], s.p).range;
+        const double e = std::abs(o.distance_m - (s.k * range + s.o));
+        const double threshold =
+            options.inlier_sigmas * o.sd_m + options.inlier_floor_m + model.consensus_slack_m;
+        if (e <= threshold && (chosen == nullptr || e / threshold < chosen_norm)) {
+          chosen = &o;
+          chosen_norm = e / threshold;
+        }
+        if (k == 0 && chosen != nullptr && !o.suspect)
+          break;
+      }
+      if (chosen != nullptr) {
+        c.inliers.push_back(*chosen);
+        truncated += chosen_norm * chosen_norm;
+      } else {
+        truncated += 1.0;
+      }
+    }
+    c.score = static_cast<double>(c.inliers.size()) - truncated / static_cast<double>(n + 1);
+    return c;
+  };
+  const auto try_triple = [&](std::size_t i, std::size_t j, std::size_t l) {
+    const std::array<Observation, 3> triple{beacons[i].options[0], beacons[j].options[0],
+                                            beacons[l].options[0]};
+    const TripleSolutions sol = solve_triple_closed_form(
+        *model.layout, std::span<const Observation, 3>(triple), model.k_prior);
+    for (int s = 0; s < sol.count; ++s) {
+      any_geometry = true;
+      const TripleSolution& t = sol.solutions[static_cast<std::size_t>(s)];
+      Consensus c = score_hypothesis({t.position_m, t.offset_m, model.k_prior});
+      // Equal scores (the two roots of a lone triple): the one nearer the prior.
+      const bool nearer =
+          options.prior_position_m && distance(c.state.p, *options.prior_position_m) <
+                                          distance(best.state.p, *options.prior_position_m);
+      if (c.score > best.score + 1e-9 || (c.score > best.score - 1e-9 && nearer))
+        best = std::move(c);
+    }
+  };
+  const double triples =
+      static_cast<double>(n) * static_cast<double>(n - 1) * static_cast<double>(n - 2) / 6.0;
+  if (triples <= options.max_hypotheses) {
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t j = i + 1; j < n; ++j)
+        for (std::size_t l = j + 1; l < n; ++l)
+          try_triple(i, j, l);
+  } else {
+    // Raw 64-bit draws reduced modulo n: the same sequence on every standard
+    // library (std::uniform_int_distribution is implementation-defined).
+    std::mt19937_64 rng(options.seed);
+    for (int h = 0; h < options.max_hypotheses; ++h) {
+      const std::size_t i = rng() % n;
+      const std::size_t j = (i + 1 + rng() % (n - 1)) % n;
+      std::size_t l = rng() % n;
+      while (l == i || l == j)
+        l = (l + 1) % n;
+      try_triple(i, j, l);
+    }
+  }
+  return best;
+}
+
+void fill_uses(Fix& fix, const Model& model, std::span<const Observation> used,
+               const std::vector<BeaconCandidates>& candidates, const State& s) {
+  for (BeaconUse& u : fix.beacons) {
+    if (u.status != BeaconStatus::kUsed)
+      continue;
+    const auto it = std::find_if(used.begin(), used.end(),
+                                 [&](const Observation& o) { return o.beacon == u.beacon; });
+    if (it != used.end()) {
+      u.candidate = it->candidate;
+      u.residual_m = residual(model, *it, s);
+      continue;
+    }
+    u.status = BeaconStatus::kOutlier;
+    for (const BeaconCandidates& bc : candidates)
+      if (bc.options.front().beacon == u.beacon)
+        u.residual_m = residual(model, bc.options.front(), s);
+    u.candidate = -1;
+  }
+}
+
+}  // namespace
+
+Fix multilaterate(const BeaconLayout& layout, const RangeSet& ranges,
+                  const MultilaterationOptions& options) {
+  layout.validate();
+  options.validate();
+  Fix fix;
+  fix.solver = Solver::kGaussNewton;
+  Prepared prepared = prepare(layout, ranges, options.min_sd_m);
+  fix.beacons = std::move(prepared.uses);
+
+  const bool c_finite = std::isfinite(ranges.speed_of_sound_mps) && ranges.speed_of_sound_mps > 0;
+  if (!c_finite) {
+    fix.reason = NoFixReason::kNonFiniteInput;
+    return fix;
+  }
+  Model model{&layout};
+  double c_assumed = ranges.speed_of_sound_mps;
+  if (options.temperature_c) {
+    c_assumed = speed_of_sound_mps(*options.temperature_c);
+    model.k_prior_sd = ranges.speed_of_sound_mps / c_assumed *
+                       speed_of_sound_slope(*options.temperature_c) * options.temperature_sd_c /
+                       c_assumed;
+  }
+  model.k_prior = ranges.speed_of_sound_mps / c_assumed;
+  if (options.calibrate_speed_of_sound)
+    model.consensus_slack_m = (options.temperature_c ? 4 * model.k_prior_sd / model.k_prior
+                                                     : options.speed_of_sound_tolerance) *
+                              extent_m(layout);
+
+  if (prepared.primaries.size() < 3) {
+    fix.reason =
+        prepared.any_non_finite ? NoFixReason::kNonFiniteInput : NoFixReason::kTooFewBeacons;
+    return fix;
+  }
+
+  std::vector<BeaconCandidates> candidates;
+  candidates.reserve(prepared.primaries.size());
+  for (const Observation& p : prepared.primaries) {
+    BeaconCandidates bc{{p}};
+    if (options.robust)
+      for (const Observation& alt : alternatives(ranges, p.beacon, options.min_sd_m))
+        bc.options.push_back(alt);
+    candidates.push_back(std::move(bc));
+  }
+
+  // Start point and the measurements to fit.
+  std::vector<Observation> used;
+  State start;
+  bool any_geometry = false;
+  if (options.robust || prepared.primaries.size() == 3) {
+    Consensus consensus = find_consensus(model, candidates, options, any_geometry);
+    if (!any_geometry) {
+      fix.reason = NoFixReason::kDegenerateGeometry;
+      return fix;
+    }
+    // A lone triple always agrees with itself: with more beacons usable, a
+    // consensus needs one that checks it.
+    const std::size_t needed = prepared.primaries.size() > 3 ? 4 : 3;
+    if (consensus.inliers.size() < needed) {
+      fix.reason = NoFixReason::kInconsistent;
+      return fix;
+    }
+    used = std::move(consensus.inliers);
+    start = consensus.state;
+  } else {
+    used = prepared.primaries;
+    const std::optional<State> linear = linear_start(layout, used, model.k_prior);
+    if (!linear) {
+      fix.reason = NoFixReason::kDegenerateGeometry;
+      return fix;
+    }
+    start = *linear;
+  }
+
+  model.calibrate = options.calibrate_speed_of_sound &&
+                    static_cast<int>(used.size()) >= options.min_beacons_to_calibrate;
+  start.k = model.k_prior;
+  int iterations = 0;
+  if (model.calibrate) {
+    // Position and offset at the assumed c first: from a triple solved at
+    // the wrong c, the four-state problem can slide off toward the far field.
+    Model fixed_c = model;
+    fixed_c.calibrate = false;
+    const FitResult first = gauss_newton(fixed_c, used, start, options);
+    iterations += first.iterations;
+    if (!first.singular)
+      start = first.state;
+  }
+  FitResult fit = gauss_newton(model, used, start, options);
+  iterations += fit.iterations;
+  StateMatrix n;
+  StateVector g;
+  std::optional<StateMatrix> covariance;
+  // Studentised residual test: drop the worst while redundancy remains.
+  for (;;) {
+    if (fit.singular)
+      break;
+    normal_equations(model, used, fit.state, false, n, g);
+    covariance = spd_inverse(n);
+    if (!covariance)
+      break;
+    if (!options.robust || static_cast<int>(used.size()) <= model.dimension() + 1)
+      break;
+    std::size_t worst = used.size();
+    double worst_t = options.residual_gate_sigmas;
+    for (std::size_t i = 0; i < used.size(); ++i) {
+      const Observation& o = used[i];
+      const Row j = jacobian_row(
+          range_gradient(layout.beacons[static_cast<std::size_t>(o.beacon)], fit.state.p),
+          fit.state.k);
+      const auto jd = j.head(model.dimension());
+      const double leverage = (jd.transpose() * *covariance * jd)(0, 0) / (o.sd_m * o.sd_m);
+      if (leverage > 1 - 1e-6)
+        continue;  // not redundant: its residual says nothing
+      const double t = std::abs(residual(model, o, fit.state)) / (o.sd_m * std::sqrt(1 - leverage));
+      if (t > worst_t) {
+        worst_t = t;
+        worst = i;
+      }
+    }
+    if (worst == used.size())
+      break;
+    used.erase(used.begin() + static_cast<std::ptrdiff_t>(worst));
+    model.calibrate =
+        model.calibrate && static_cast<int>(used.size()) >= options.min_beacons_to_calibrate;
+    fit = gauss_newton(model, used, fit.state, options);
+    iterations += fit.iterations;
+  }
+
+  fix.iterations = iterations;
+  fill_uses(fix, model, used, candidates, fit.state);
+  fix.position_m = fit.state.p;
+  fix.offset_m = fit.state.o;
+  fix.speed_of_sound_mps = ranges.speed_of_sound_mps / fit.state.k;
+  if (fit.singular || !covariance) {
+    fix.reason = NoFixReason::kDegenerateGeometry;
+    return fix;
+  }
+  if (!fit.converged) {
+    fix.reason = NoFixReason::kNotConverged;
+    return fix;
+  }
+  fix.covariance_m2 = covariance->topLeftCorner<2, 2>();
+  fix.offset_sd_m = std::sqrt((*covariance)(2, 2));
+  if (model.calibrate)
+    fix.speed_of_sound_sd_mps =
+        ranges.speed_of_sound_mps / (fit.state.k * fit.state.k) * std::sqrt((*covariance)(3, 3));
+  fix.chi2 = cost(model, used, fit.state);
+  fix.dof = static_cast<int>(used.size()) - model.dimension();
+  normal_equations(model, used, fit.state, true, n, g);
+  if (const std::optional<StateMatrix> unit = spd_inverse(n))
+    fix.hdop = std::sqrt((*unit)(0, 0) + (*unit)(1, 1));
+
+  if (!std::isfinite(fix.position_m.x) || !std::isfinite(fix.position_m.y)) {
+    fix.reason = NoFixReason::kNotConverged;
+    return fix;
+  }
+  if (layout.distance_outside_hull_m(fix.position_m) > options.max_outside_hull_m) {
+    fix.reason = NoFixReason::kOutsideHull;
+    return fix;
+  }
+  // Three measurements and three unknowns: the other intersection fits too.
+  if (used.size() == 3 && !model.calibrate) {
+    const std::array<Observation, 3> triple{used[0], used[1], used[2]};
+    const TripleSolutions sol =
+        solve_triple_closed_form(layout, std::span<const Observation, 3>(triple), fit.state.k);
+    for (int s = 0; s < sol.count; ++s) {
+      const Vec2 q = sol.solutions[static_cast<std::size_t>(s)].position_m;
+      if (distance(q, fix.position_m) > 1e-3)
+        fix.mirror_m = q;
+    }
+    if (fix.mirror_m &&
+        layout.distance_outside_hull_m(*fix.mirror_m) <= options.max_outside_hull_m) {
+      const bool decided =
+          options.prior_position_m &&
+          distance(*fix.mirror_m, *options.prior_position_m) >=
+              distance(fix.position_m, *options.prior_position_m) + options.mirror_margin_m;
+      if (!decided) {
+        fix.reason = NoFixReason::kMirrorAmbiguous;
+        return fix;
+      }
+    }
+  }
+  fix.valid = true;
+  fix.reason = NoFixReason::kNone;
+  return fix;
+}
+
+CramerRaoBound cramer_rao_bound(const BeaconLayout& layout, Vec2 position_m,
+                                std::span<const int> beacons, std::span<const double> sd_m,
+                                bool with_speed) {
+  CramerRaoBound bound;
+  if (beacons.size() != sd_m.size())
+    throw std::invalid_argument("cramer_rao_bound: one sd per beacon");
+  Model model{&layout, with_speed, 1.0, 0.0};
+  std::vector<Observation> obs;
+  for (std::size_t i = 0; i < beacons.size(); ++i) {
+    if (!(std::isfinite(sd_m[i]) && sd_m[i] > 0))
+      throw std::invalid_argument("cramer_rao_bound: sd must be finite and positive");
+    obs.push_back({beacons[i], 0, 0.0, sd_m[i], false});
+  }
+  StateMatrix n;
+  StateVector g;
+  const State at{position_m, 0, 1};
+  normal_equations(model, obs, at, false, n, g);
+  const std::optional<StateMatrix> cov = spd_inverse(n);
+  if (!cov)
+    return bound;
+  bound.valid = true;
+  bound.position_covariance_m2 = cov->topLeftCorner<2, 2>();
+  bound.rms_m = std::sqrt((*cov)(0, 0) + (*cov)(1, 1));
+  bound.offset_sd_m = std::sqrt((*cov)(2, 2));
+  if (with_speed)
+    bound.speed_ratio_sd = std::sqrt((*cov)(3, 3));
+  normal_equations(model, obs, at, true, n, g);
+  if (const std::optional<StateMatrix> unit = spd_inverse(n))
+    bound.hdop = std::sqrt((*unit)(0, 0) + (*unit)(1, 1));
+  return bound;
+}
+
+}  // namespace odoloc::sw::locate
