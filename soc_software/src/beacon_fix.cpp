@@ -75,11 +75,19 @@ double BeaconLayout::range_m(std::size_t beacon, Vec2 p) const {
 }
 
 double BeaconLayout::distance_outside_hull_m(Vec2 p) const {
+  return ConvexHull(*this).distance_outside_m(p);
+}
+
+ConvexHull::ConvexHull(const BeaconLayout& layout) {
   std::vector<Vec2> points;
-  points.reserve(beacons.size());
-  for (const Beacon& b : beacons)
+  points.reserve(layout.beacons.size());
+  for (const Beacon& b : layout.beacons)
     points.push_back(b.position_m);
-  const std::vector<Vec2> hull = convex_hull(std::move(points));
+  vertices_ = convex_hull(std::move(points));
+}
+
+double ConvexHull::distance_outside_m(Vec2 p) const {
+  const std::vector<Vec2>& hull = vertices_;
   if (hull.empty())
     return std::numeric_limits<double>::infinity();
   if (hull.size() == 1)

@@ -34,6 +34,8 @@ void MultilaterationOptions::validate() const {
   if (!(std::isfinite(speed_of_sound_tolerance) && speed_of_sound_tolerance >= 0 &&
         speed_of_sound_tolerance < 0.5))
     fail("speed_of_sound_tolerance must be within 0..0.5");
+  if (min_beacons < 3)
+    fail("min_beacons must be at least 3");
   if (min_beacons_to_calibrate < 5)
     fail("min_beacons_to_calibrate must be at least 5 (four unknowns and one redundancy)");
   if (!(std::isfinite(min_sd_m) && min_sd_m > 0))
@@ -109,6 +111,7 @@ struct State {
 // Everything the fit knows besides the observations.
 struct Model {
   const BeaconLayout* layout;
+  const ConvexHull* hull;
   bool calibrate = false;  // k is a state
   double k_prior = 1;      // k when fixed; the prior's mean when calibrating
   double k_prior_sd = 0;   // 0: no prior (calibrating on the data alone)
@@ -359,7 +362,8 @@ struct BeaconCandidates {
 
 // Best consensus over triples of primaries (exhaustive or seeded sample).
 Consensus find_consensus(const Model& model, const std::vector<BeaconCandidates>& beacons,
-                         const MultilaterationOptions& options, bool& any_geometry) {
+                         const MultilaterationOptions& options, bool& any_geometry,
+                         bool& any_inside) {
   Consensus best;
   const std::size_t n = beacons.size();
   const auto score_hypothesis = [&](const State& s) {
@@ -402,6 +406,11 @@ Consensus find_consensus(const Model& model, const std::vector<BeaconCandidates>
     for (int s = 0; s < sol.count; ++s) {
       any_geometry = true;
       const TripleSolution& t = sol.solutions[static_cast<std::size_t>(s)];
+      // A solution too far outside the beacons cannot become a fix: its
+      // mirror (or another triple) must.
+      if (model.hull->distance_outside_m(t.position_m) > options.max_outside_hull_m)
+        continue;
+      any_inside = true;
       Consensus c = score_hypothesis({t.position_m, t.offset_m, model.k_prior});
       // Equal scores (the two roots of a lone triple): the one nearer the prior.
       const bool nearer =
@@ -470,7 +479,8 @@ Fix multilaterate(const BeaconLayout& layout, const RangeSet& ranges,
     fix.reason = NoFixReason::kNonFiniteInput;
     return fix;
   }
-  Model model{&layout};
+  const ConvexHull hull(layout);
+  Model model{&layout, &hull};
   double c_assumed = ranges.speed_of_sound_mps;
   if (options.temperature_c) {
     c_assumed = speed_of_sound_mps(*options.temperature_c);
@@ -504,10 +514,11 @@ Fix multilaterate(const BeaconLayout& layout, const RangeSet& ranges,
   std::vector<Observation> used;
   State start;
   bool any_geometry = false;
+  bool any_inside = false;
   if (options.robust || prepared.primaries.size() == 3) {
-    Consensus consensus = find_consensus(model, candidates, options, any_geometry);
-    if (!any_geometry) {
-      fix.reason = NoFixReason::kDegenerateGeometry;
+    Consensus consensus = find_consensus(model, candidates, options, any_geometry, any_inside);
+    if (!any_geometry || !any_inside) {
+      fix.reason = any_geometry ? NoFixReason::kOutsideHull : NoFixReason::kDegenerateGeometry;
       return fix;
     }
     // A lone triple always agrees with itself: with more beacons usable, a
@@ -585,6 +596,7 @@ Fix multilaterate(const BeaconLayout& layout, const RangeSet& ranges,
   }
 
   fix.iterations = iterations;
+  const bool enough = static_cast<int>(used.size()) >= options.min_beacons;
   fill_uses(fix, model, used, candidates, fit.state);
   fix.position_m = fit.state.p;
   fix.offset_m = fit.state.o;
@@ -612,7 +624,11 @@ Fix multilaterate(const BeaconLayout& layout, const RangeSet& ranges,
     fix.reason = NoFixReason::kNotConverged;
     return fix;
   }
-  if (layout.distance_outside_hull_m(fix.position_m) > options.max_outside_hull_m) {
+  if (!enough) {
+    fix.reason = NoFixReason::kTooFewBeacons;
+    return fix;
+  }
+  if (hull.distance_outside_m(fix.position_m) > options.max_outside_hull_m) {
     fix.reason = NoFixReason::kOutsideHull;
     return fix;
   }
@@ -626,8 +642,7 @@ Fix multilaterate(const BeaconLayout& layout, const RangeSet& ranges,
       if (distance(q, fix.position_m) > 1e-3)
         fix.mirror_m = q;
     }
-    if (fix.mirror_m &&
-        layout.distance_outside_hull_m(*fix.mirror_m) <= options.max_outside_hull_m) {
+    if (fix.mirror_m && hull.distance_outside_m(*fix.mirror_m) <= options.max_outside_hull_m) {
       const bool decided =
           options.prior_position_m &&
           distance(*fix.mirror_m, *options.prior_position_m) >=
@@ -649,7 +664,8 @@ CramerRaoBound cramer_rao_bound(const BeaconLayout& layout, Vec2 position_m,
   CramerRaoBound bound;
   if (beacons.size() != sd_m.size())
     throw std::invalid_argument("cramer_rao_bound: one sd per beacon");
-  Model model{&layout, with_speed, 1.0, 0.0};
+  const ConvexHull hull(layout);
+  Model model{&layout, &hull, with_speed, 1.0, 0.0};
   std::vector<Observation> obs;
   for (std::size_t i = 0; i < beacons.size(); ++i) {
     if (!(std::isfinite(sd_m[i]) && sd_m[i] > 0))

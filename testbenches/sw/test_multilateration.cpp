@@ -271,7 +271,19 @@ TEST(Multilateration, NoFixWithTheReason) {
     const Fix fix = multilaterate(layout, exact_range_set(layout, {25, 4}, 0));
     EXPECT_FALSE(fix.valid);
     EXPECT_EQ(fix.reason, NoFixReason::kOutsideHull);
-    EXPECT_NEAR(fix.position_m.x, 25, 1e-6);  // still reported for diagnosis
+  }
+  {  // three beacons fit exactly whatever their errors: no fix by default
+    RangeSet set = exact_range_set(layout, p, 0);
+    for (std::size_t b : {1U, 3U, 5U})
+      set.beacons[b].flags = Flags(Flag::kMissing);
+    const Fix fix = multilaterate(layout, set);
+    EXPECT_EQ(fix.reason, NoFixReason::kTooFewBeacons);
+    EXPECT_NEAR(fix.position_m.x, p.x, 1e-9);  // still reported for diagnosis
+    MultilaterationOptions three;
+    three.min_beacons = 3;
+    const Fix unchecked = multilaterate(layout, set, three);
+    EXPECT_TRUE(unchecked.valid);
+    EXPECT_EQ(unchecked.dof, 0);
   }
   {  // a non-finite speed of sound
     RangeSet set = exact_range_set(layout, p, 0);
@@ -304,6 +316,7 @@ TEST(Multilateration, ThreeBeaconsReportTheMirror) {
   const RangeSet set = exact_range_set(layout, p, 0.7);
   MultilaterationOptions options;
   options.max_outside_hull_m = 20;
+  options.min_beacons = 3;
   const Fix fix = multilaterate(layout, set, options);
   std::array<Observation, 3> obs{};
   for (int i = 0; i < 3; ++i)

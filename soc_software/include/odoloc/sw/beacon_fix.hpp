@@ -49,8 +49,20 @@ struct BeaconLayout {
   [[nodiscard]] double range_m(std::size_t beacon, Vec2 p) const;
   // Distance from p to the convex hull of the beacons' positions (0 inside
   // or on it; with fewer than 3 non-collinear beacons, to their segment or
-  // point).
+  // point; infinite without beacons). Builds the hull: for many points, use
+  // ConvexHull.
   [[nodiscard]] double distance_outside_hull_m(Vec2 p) const;
+};
+
+// The convex hull of a layout's beacons, built once.
+class ConvexHull {
+ public:
+  explicit ConvexHull(const BeaconLayout& layout);
+  // As BeaconLayout::distance_outside_hull_m.
+  [[nodiscard]] double distance_outside_m(Vec2 p) const;
+
+ private:
+  std::vector<Vec2> vertices_;  // counter-clockwise, collinear points dropped
 };
 
 // -------------------------------------------------------------- range set

@@ -49,10 +49,20 @@ struct MultilaterationOptions {
   // of this fraction (3 %: -20..+30 C around 5 C). With the prior: 4 of its sd.
   double speed_of_sound_tolerance = 0.03;
 
+  // Fewest beacons a valid fix rests on. Three fit exactly whatever their
+  // errors (an echo taken for a direct pulse moves the fix unnoticed); four
+  // give the one redundant measurement that can expose it. 3 accepts the
+  // unchecked fixes (chi2 and dof say so).
+  int min_beacons = 4;
   double min_sd_m = 1e-4;  // floor on a candidate's sd (sd 0 would claim infinite weight)
   int max_iterations = 20;
   double step_tolerance_m = 1e-7;  // stop when the position step is below this
-  double max_outside_hull_m = 2.0;
+  // How far outside the beacons' convex hull a fix may lie. Beacons stand
+  // around the room's edge, so the hull is the room: near a wall lined with
+  // collinear beacons, the robot's mirror image across that line explains a
+  // wall echo as a direct path exactly (docs/beacon-solvers.md); only the
+  // hull tells them apart.
+  double max_outside_hull_m = 0.25;
 
   // Consensus: a candidate agrees with a hypothesis when its residual is
   // within inlier_sigmas x sd + inlier_floor_m (the floor covers the error of
