@@ -114,7 +114,7 @@ struct Model {
   const ConvexHull* hull;
   bool calibrate = false;  // k is a state
   double k_prior = 1;      // k when fixed; the prior's mean when calibrating
-  double k_prior_sd = 0;   // 0: no prior (calibrating on the data alone)
+  double k_prior_sd = 0;   // > 0: k is uncertain (a pseudo-measurement when it is a state)
   // Range error the consensus tolerates besides the noise: a relative error
   // of k shifts d_i - d_j by up to that fraction of the layout's extent (the
   // triples are solved at k_prior). Nonzero only when calibrating.
@@ -178,6 +178,36 @@ std::optional<StateMatrix> spd_inverse(const StateMatrix& n) {
   if (!inverse.allFinite())
     return std::nullopt;
   return inverse;
+}
+
+// The covariance of the fitted state: (J^T W J)^-1 of the fit's model. When
+// k is uncertain but held at its prior (too few beacons to estimate it), the
+// consider covariance: its spread enters through the cross information,
+// P + (P N_xk) sd_k^2 (P N_xk)^T with P the position-and-offset block's
+// inverse, and the result is 4 x 4 with k's prior variance.
+std::optional<StateMatrix> state_covariance(const Model& model, std::span<const Observation> obs,
+                                            const State& s) {
+  StateMatrix n;
+  StateVector g;
+  if (model.calibrate || model.k_prior_sd <= 0) {
+    normal_equations(model, obs, s, false, n, g);
+    return spd_inverse(n);
+  }
+  Model with_k = model;
+  with_k.calibrate = true;
+  with_k.k_prior_sd = 0;  // the data's information alone
+  normal_equations(with_k, obs, s, false, n, g);
+  const std::optional<StateMatrix> p = spd_inverse(n.topLeftCorner(3, 3));
+  if (!p)
+    return std::nullopt;
+  const StateVector gain = *p * n.topRightCorner(3, 1);
+  const double var_k = model.k_prior_sd * model.k_prior_sd;
+  StateMatrix cov = StateMatrix::Zero(4, 4);
+  cov.topLeftCorner(3, 3) = *p + gain * var_k * gain.transpose();
+  cov.topRightCorner(3, 1) = -gain * var_k;
+  cov.bottomLeftCorner(1, 3) = -var_k * gain.transpose();
+  cov(3, 3) = var_k;
+  return cov;
 }
 
 struct FitResult {
@@ -482,17 +512,18 @@ Fix multilaterate(const BeaconLayout& layout, const RangeSet& ranges,
   const ConvexHull hull(layout);
   Model model{&layout, &hull};
   double c_assumed = ranges.speed_of_sound_mps;
-  if (options.temperature_c) {
+  if (options.temperature_c)
     c_assumed = speed_of_sound_mps(*options.temperature_c);
-    model.k_prior_sd = ranges.speed_of_sound_mps / c_assumed *
-                       speed_of_sound_slope(*options.temperature_c) * options.temperature_sd_c /
-                       c_assumed;
-  }
   model.k_prior = ranges.speed_of_sound_mps / c_assumed;
-  if (options.calibrate_speed_of_sound)
-    model.consensus_slack_m = (options.temperature_c ? 4 * model.k_prior_sd / model.k_prior
-                                                     : options.speed_of_sound_tolerance) *
-                              extent_m(layout);
+  if (options.calibrate_speed_of_sound) {
+    // k is uncertain: from the temperature's sd, else half the tolerance.
+    const double relative_sd =
+        options.temperature_c
+            ? speed_of_sound_slope(*options.temperature_c) * options.temperature_sd_c / c_assumed
+            : options.speed_of_sound_tolerance / 2;
+    model.k_prior_sd = model.k_prior * relative_sd;
+    model.consensus_slack_m = 4 * relative_sd * extent_m(layout);
+  }
 
   if (prepared.primaries.size() < 3) {
     fix.reason =
@@ -563,8 +594,7 @@ Fix multilaterate(const BeaconLayout& layout, const RangeSet& ranges,
   for (;;) {
     if (fit.singular)
       break;
-    normal_equations(model, used, fit.state, false, n, g);
-    covariance = spd_inverse(n);
+    covariance = state_covariance(model, used, fit.state);
     if (!covariance)
       break;
     if (!options.robust || static_cast<int>(used.size()) <= model.dimension() + 1)
@@ -576,7 +606,7 @@ Fix multilaterate(const BeaconLayout& layout, const RangeSet& ranges,
       const Row j = jacobian_row(
           range_gradient(layout.beacons[static_cast<std::size_t>(o.beacon)], fit.state.p),
           fit.state.k);
-      const auto jd = j.head(model.dimension());
+      const auto jd = j.head(covariance->rows());
       const double leverage = (jd.transpose() * *covariance * jd)(0, 0) / (o.sd_m * o.sd_m);
       if (leverage > 1 - 1e-6)
         continue;  // not redundant: its residual says nothing
@@ -611,7 +641,8 @@ Fix multilaterate(const BeaconLayout& layout, const RangeSet& ranges,
   }
   fix.covariance_m2 = covariance->topLeftCorner<2, 2>();
   fix.offset_sd_m = std::sqrt((*covariance)(2, 2));
-  if (model.calibrate)
+  fix.speed_of_sound_estimated = model.calibrate;
+  if (covariance->rows() == 4)
     fix.speed_of_sound_sd_mps =
         ranges.speed_of_sound_mps / (fit.state.k * fit.state.k) * std::sqrt((*covariance)(3, 3));
   fix.chi2 = cost(model, used, fit.state);
@@ -660,12 +691,13 @@ Fix multilaterate(const BeaconLayout& layout, const RangeSet& ranges,
 
 CramerRaoBound cramer_rao_bound(const BeaconLayout& layout, Vec2 position_m,
                                 std::span<const int> beacons, std::span<const double> sd_m,
-                                bool with_speed) {
+                                bool with_speed, double speed_ratio_prior_sd) {
   CramerRaoBound bound;
   if (beacons.size() != sd_m.size())
     throw std::invalid_argument("cramer_rao_bound: one sd per beacon");
   const ConvexHull hull(layout);
-  Model model{&layout, &hull, with_speed, 1.0, 0.0};
+  Model model{&layout, &hull, with_speed, 1.0,
+              std::isfinite(speed_ratio_prior_sd) ? speed_ratio_prior_sd : 0.0};
   std::vector<Observation> obs;
   for (std::size_t i = 0; i < beacons.size(); ++i) {
     if (!(std::isfinite(sd_m[i]) && sd_m[i] > 0))

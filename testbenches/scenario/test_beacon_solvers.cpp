@@ -37,8 +37,9 @@ constexpr double kChainSdM = 0.7e-3;
 constexpr double kPathJitterS = 1.5e-6;      // turbulence, per emission and path
 constexpr double kReceiverJitterS = 1.0e-6;  // per receiver
 
-world::AcousticWorld room_world() {
+world::AcousticWorld room_world(double temperature_c = 20) {
   world::AcousticWorld w = world::kleeman_world();
+  w.air.temperature_c = temperature_c;
   w.noise.path_jitter_sd_s = kPathJitterS;
   w.noise.receiver_jitter_sd_s = kReceiverJitterS;
   return w;
@@ -63,7 +64,9 @@ struct Sample {
 // One beacon cycle with the robot standing at `pose`; `block` >= 0 puts a
 // 10 cm disc 0.4 m from the robot on the direct path to that beacon, so its
 // first wavefront is an echo (or nothing).
-Sample measure(world::AcousticWorld w, const world::Pose& pose, int block, std::mt19937_64& rng) {
+// Distances are c_assumed x time (the world's c when 0).
+Sample measure(world::AcousticWorld w, const world::Pose& pose, int block, double c_assumed,
+               std::mt19937_64& rng) {
   Sample s;
   s.truth = {pose.x_m, pose.y_m};
   const double c = w.air.speed_of_sound_mps();
@@ -81,7 +84,8 @@ Sample measure(world::AcousticWorld w, const world::Pose& pose, int block, std::
       world::simulate(w, schedule, world::stationary(pose), 0.01 + timing.cycle_s(), rng());
   std::normal_distribution<double> chain(0.0, kChainSdM);
   const double offset = std::uniform_real_distribution<double>(-2.0, 6.0)(rng);
-  s.set.speed_of_sound_mps = c;
+  const double c_used = c_assumed > 0 ? c_assumed : c;
+  s.set.speed_of_sound_mps = c_used;
   s.set.beacons.resize(w.beacons.size());
   std::vector<bool> seen(w.beacons.size(), false);
   for (const world::EmissionRecord& e : run.emissions) {
@@ -119,8 +123,8 @@ Sample measure(world::AcousticWorld w, const world::Pose& pose, int block, std::
         continue;
       const double sd_t = std::sqrt(kPathJitterS * kPathJitterS +
                                     kReceiverJitterS * kReceiverJitterS / f.receivers);
-      const double sd = std::hypot(c * sd_t, kChainSdM);
-      const double d = c * (f.time_s / f.receivers - e.emission_s) + offset + chain(rng);
+      const double sd = std::hypot(c_used * sd_t, kChainSdM);
+      const double d = c_used * (f.time_s / f.receivers - e.emission_s) + offset + chain(rng);
       candidates.push_back({d, sd, {}});
       is_direct.push_back(f.direct);
     }
@@ -150,7 +154,7 @@ Sample measure(world::AcousticWorld w, const world::Pose& pose, int block, std::
 struct Tally {
   std::string name;
   int fixes = 0, no_fix = 0, false_fixes = 0;
-  double sum_e2 = 0, sum_nees = 0, sum_bound2 = 0;
+  double sum_e2 = 0, sum_nees = 0, sum_bound2 = 0, sum_ratio = 0;
   void add(const loc::Fix& fix, const Sample& s) {
     if (!fix.valid) {
       ++no_fix;
@@ -162,39 +166,56 @@ struct Tally {
     sum_e2 += e.squaredNorm();
     sum_nees += n;
     sum_bound2 += s.bound_rms_m * s.bound_rms_m;
+    sum_ratio += e.squaredNorm() / (s.bound_rms_m * s.bound_rms_m);
     false_fixes += n > 100.0 ? 1 : 0;  // beyond 10 sigma
   }
   [[nodiscard]] double rms() const { return std::sqrt(sum_e2 / std::max(fixes, 1)); }
   [[nodiscard]] double bound_rms() const { return std::sqrt(sum_bound2 / std::max(fixes, 1)); }
   [[nodiscard]] double mean_nees() const { return sum_nees / std::max(fixes, 1); }
+  // Mean of |error|^2 / trace(bound): 1 for an efficient estimator, and far
+  // less sensitive than the RMS ratio to the few points of poor geometry.
+  [[nodiscard]] double mean_bound_ratio() const { return sum_ratio / std::max(fixes, 1); }
   // The mean of n chi^2(2) draws: 95 % within 2 +- 1.96 * 2 / sqrt(n).
   [[nodiscard]] double nees_half_interval() const {
     return 1.96 * 2.0 / std::sqrt(static_cast<double>(std::max(fixes, 1)));
   }
   void print() const {
     std::printf(
-        "  %-14s fixes %4d  no fix %4d  RMS %6.3f mm  CRLB RMS %6.3f mm (x %.2f)  NEES %.2f "
-        "(95 %%: %.2f..%.2f)  false %d\n",
+        "  %-15s fixes %4d  no fix %4d  RMS %7.3f mm  CRLB RMS %6.3f mm (x %.2f; mean "
+        "e^2/CRLB %.2f)  NEES %.2f (95 %%: %.2f..%.2f)  false %d\n",
         name.c_str(), fixes, no_fix, 1e3 * rms(), 1e3 * bound_rms(), rms() / bound_rms(),
-        mean_nees(), 2 - nees_half_interval(), 2 + nees_half_interval(), false_fixes);
+        mean_bound_ratio(), mean_nees(), 2 - nees_half_interval(), 2 + nees_half_interval(),
+        false_fixes);
   }
 };
 
-std::vector<Sample> make_run(int points, int block_beacon, double block_probability,
-                             std::uint64_t seed) {
-  const world::AcousticWorld w = room_world();
+struct RunSpec {
+  int points = 600;
+  int block_beacon = -1;  // the echo-corrupted beacon, or -1
+  double block_probability = 0;
+  std::uint64_t seed = 1;
+  double temperature_c = 20;               // the air's
+  double c_assumed = 0;                    // the c distances are computed with (0: the air's)
+  bool with_speed = false;                 // the bound with c unknown
+  double speed_prior_sd = loc::kInfinity;  // ... and this prior on c_used/c_true
+};
+
+std::vector<Sample> make_run(const RunSpec& spec) {
+  const world::AcousticWorld w = room_world(spec.temperature_c);
   const loc::BeaconLayout layout = layout_of(w);
-  std::mt19937_64 rng(seed);
+  std::mt19937_64 rng(spec.seed);
   std::uniform_real_distribution<double> u(0.5, 9.5);
   std::uniform_real_distribution<double> heading(-3.14159, 3.14159);
-  std::bernoulli_distribution blocked(block_probability);
+  std::bernoulli_distribution blocked(spec.block_probability);
   std::vector<Sample> run;
-  for (int i = 0; i < points; ++i) {
+  for (int i = 0; i < spec.points; ++i) {
     const double x = u(rng);
     const world::Pose pose{x, u(rng), heading(rng)};
-    const int block = block_beacon >= 0 && blocked(rng) ? block_beacon : -1;
-    Sample s = measure(w, pose, block, rng);
-    s.bound_rms_m = loc::cramer_rao_bound(layout, s.truth, s.direct, s.sd_m).rms_m;
+    const int block = spec.block_beacon >= 0 && blocked(rng) ? spec.block_beacon : -1;
+    Sample s = measure(w, pose, block, spec.c_assumed, rng);
+    s.bound_rms_m = loc::cramer_rao_bound(layout, s.truth, s.direct, s.sd_m, spec.with_speed,
+                                          spec.speed_prior_sd)
+                        .rms_m;
     run.push_back(std::move(s));
   }
   return run;
@@ -213,7 +234,7 @@ int checkable(const std::vector<Sample>& run) {
 
 TEST(BeaconSolversMonteCarlo, CleanDataReachesTheBound) {
   const loc::BeaconLayout layout = layout_of(room_world());
-  const std::vector<Sample> run = make_run(600, -1, 0, 2026);
+  const std::vector<Sample> run = make_run({.points = 600, .seed = 2026});
   Tally gn{"gauss-newton"};
   for (const Sample& s : run)
     gn.add(loc::multilaterate(layout, s.set), s);
@@ -229,7 +250,8 @@ TEST(BeaconSolversMonteCarlo, CleanDataReachesTheBound) {
 
 TEST(BeaconSolversMonteCarlo, OneEchoCorruptedBeacon) {
   const loc::BeaconLayout layout = layout_of(room_world());
-  const std::vector<Sample> run = make_run(2000, 1, 0.3, 7);
+  const std::vector<Sample> run =
+      make_run({.points = 2000, .block_beacon = 1, .block_probability = 0.3, .seed = 7});
   Tally gn{"gauss-newton"};
   int corrupted = 0, rejected = 0;
   for (const Sample& s : run) {
@@ -249,6 +271,53 @@ TEST(BeaconSolversMonteCarlo, OneEchoCorruptedBeacon) {
   EXPECT_LT(gn.false_fixes, std::max(1, gn.fixes / 1000));  // below 0.1 %
   EXPECT_NEAR(gn.mean_nees(), 2.0, gn.nees_half_interval());
   EXPECT_GT(corrupted, 200);  // the run exercises the echoes
+}
+
+// Kleeman's self-calibration: the air at 28 C, the distances computed with
+// 20 C's 343.2 m/s (a 1.3 % range error), c a state.
+TEST(BeaconSolversMonteCarlo, SelfCalibratedSpeedOfSound) {
+  const loc::BeaconLayout layout = layout_of(room_world());
+  const double c_true = room_world(28).air.speed_of_sound_mps();
+  const double prior_sd = loc::MultilaterationOptions{}.speed_of_sound_tolerance / 2;
+  const std::vector<Sample> run = make_run({.points = 800,
+                                            .seed = 28,
+                                            .temperature_c = 28,
+                                            .c_assumed = 343.2,
+                                            .with_speed = true,
+                                            .speed_prior_sd = prior_sd});
+  loc::MultilaterationOptions options;
+  options.calibrate_speed_of_sound = true;
+  // Fixes on five or more beacons estimate c; on four, c stays at the prior
+  // (1.3 % off) and the covariance carries the prior's 1.5 %.
+  Tally estimated{"gn, c from data"};
+  Tally held{"gn, c prior"};
+  double z2 = 0, err2 = 0, sd_sum = 0;
+  for (const Sample& s : run) {
+    const loc::Fix fix = loc::multilaterate(layout, s.set, options);
+    (fix.speed_of_sound_estimated ? estimated : held).add(fix, s);
+    if (fix.valid && fix.speed_of_sound_estimated) {
+      const double e = fix.speed_of_sound_mps - c_true;
+      z2 += e * e / (fix.speed_of_sound_sd_mps * fix.speed_of_sound_sd_mps);
+      err2 += e * e;
+      sd_sum += fix.speed_of_sound_sd_mps;
+    }
+  }
+  const int n = estimated.fixes;
+  std::printf(
+      "c unknown (air 28 C = %.2f m/s, assumed 343.2 m/s, prior sd %.1f %%): %d fixes estimated c: "
+      "RMS error %.3f m/s (%.3f %%), mean reported sd %.3f m/s, mean z^2 %.2f\n",
+      c_true, 100 * prior_sd, n, std::sqrt(err2 / n), 100 * std::sqrt(err2 / n) / c_true,
+      sd_sum / n, z2 / n);
+  estimated.print();
+  held.print();
+  EXPECT_LE(estimated.rms(), 1.2 * estimated.bound_rms());
+  EXPECT_EQ(estimated.false_fixes + held.false_fixes, 0);
+  EXPECT_NEAR(estimated.mean_nees(), 2.0, estimated.nees_half_interval());
+  EXPECT_GT(n, 300);
+  // z^2 of c averages 1 (chi^2(1): 95 % within 1 +- 1.96 sqrt(2/n)).
+  EXPECT_NEAR(z2 / n, 1.0, 1.96 * std::sqrt(2.0 / n));
+  // Kleeman resolved c to 0.25 %.
+  EXPECT_LT(std::sqrt(err2 / n) / c_true, 0.0025);
 }
 
 }  // namespace

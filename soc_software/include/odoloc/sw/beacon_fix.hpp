@@ -156,8 +156,9 @@ struct Fix {
   double hdop = kNaN;
   double offset_m = kNaN;  // the common offset, metres (distance units of the input)
   double offset_sd_m = kNaN;
-  double speed_of_sound_mps = kNaN;  // c the fix assumes (estimated when calibrating)
-  double speed_of_sound_sd_mps = 0;  // 0 when c was not estimated
+  double speed_of_sound_mps = kNaN;       // c the fix assumes (estimated when calibrating)
+  double speed_of_sound_sd_mps = 0;       // 0 when c was taken as exact
+  bool speed_of_sound_estimated = false;  // c from the data (else the prior's, sd the prior's)
   int iterations = 0;
   double chi2 = kNaN;              // sum of squared normalised residuals of the used beacons
   int dof = 0;                     // used measurements minus unknowns

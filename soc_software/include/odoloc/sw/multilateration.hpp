@@ -20,12 +20,15 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <limits>
 #include <optional>
 #include <span>
 
 #include "odoloc/sw/beacon_fix.hpp"
 
 namespace odoloc::sw::locate {
+
+inline constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 // c = 331.3 sqrt(1 + T/273.15) m/s, dry air, T in degrees Celsius
 // (reference/localisation.md; Cramer, JASA 93(5), 1993 for humidity's
@@ -39,15 +42,16 @@ struct MultilaterationOptions {
   // temperature_sd_c), else the range set's own c (taken as exact).
   std::optional<double> temperature_c;
   double temperature_sd_c = 2.0;
-  // Kleeman's self-calibration: k = c_used/c_true becomes a state when at
-  // least min_beacons_to_calibrate beacons are used (with the temperature
-  // prior as a pseudo-measurement when set).
+  // Kleeman's self-calibration: c is uncertain, with a Gaussian prior (from
+  // the temperature and its sd when set, else the range set's c with a
+  // relative sd of speed_of_sound_tolerance / 2), and k = c_used/c_true
+  // becomes a state when at least min_beacons_to_calibrate beacons are used.
+  // With fewer, c stays at the prior's mean and its uncertainty widens the
+  // covariance (consider covariance). The consensus, solved at the prior's
+  // c, tolerates range-difference errors of 4 prior sd x the layout's extent.
   bool calibrate_speed_of_sound = false;
   int min_beacons_to_calibrate = 5;
-  // How far off (relative) c may be when calibrating without a temperature
-  // prior: the consensus, solved at the range set's c, accepts range errors
-  // of this fraction (3 %: -20..+30 C around 5 C). With the prior: 4 of its sd.
-  double speed_of_sound_tolerance = 0.03;
+  double speed_of_sound_tolerance = 0.03;  // 3 %: about 10 K
 
   // Fewest beacons a valid fix rests on. Three fit exactly whatever their
   // errors (an echo taken for a direct pulse moves the fix unnoticed); four
@@ -110,7 +114,8 @@ TripleSolutions solve_triple_closed_form(const BeaconLayout& layout,
 
 // The Cramer-Rao bound of the model above at position P for the given
 // beacons with independent Gaussian noise of sd_m each: the inverse Fisher
-// information of (x, y, o) or, with_speed, (x, y, o, k) (at k = 1).
+// information of (x, y, o) or, with_speed, (x, y, o, k) (at k = 1), k with a
+// Gaussian prior of sd speed_ratio_prior_sd when finite (the Bayesian bound).
 struct CramerRaoBound {
   bool valid = false;  // false: the information matrix is singular (too few or degenerate)
   Eigen::Matrix2d position_covariance_m2 = Eigen::Matrix2d::Constant(kNaN);
@@ -121,6 +126,6 @@ struct CramerRaoBound {
 };
 CramerRaoBound cramer_rao_bound(const BeaconLayout& layout, Vec2 position_m,
                                 std::span<const int> beacons, std::span<const double> sd_m,
-                                bool with_speed = false);
+                                bool with_speed = false, double speed_ratio_prior_sd = kInfinity);
 
 }  // namespace odoloc::sw::locate
