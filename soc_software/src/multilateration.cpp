@@ -493,12 +493,32 @@ void fill_uses(Fix& fix, const Model& model, std::span<const Observation> used,
   }
 }
 
+// The triangle-inequality check over the non-suspect primaries: the
+// rejected ones leave `prepared` and are marked in `uses`.
+void reject_too_long(const BeaconLayout& layout, const MultilaterationOptions& options,
+                     const Model& model, Prepared& prepared, std::vector<BeaconUse>& uses) {
+  Prepared checked = prepared;
+  checked.uses = uses;
+  std::erase_if(checked.primaries, [](const Observation& o) { return o.suspect; });
+  TriangleOptions triangle = options.triangle;
+  if (model.k_prior_sd > 0)
+    triangle.baseline_fraction =
+        std::max(triangle.baseline_fraction, 4 * model.k_prior_sd / model.k_prior);
+  for (const BeaconUse& u : check_triangle_inequality(layout, checked, triangle)) {
+    if (u.status != BeaconStatus::kTriangleInequality)
+      continue;
+    uses[static_cast<std::size_t>(u.beacon)] = u;
+    std::erase_if(prepared.primaries, [&](const Observation& o) { return o.beacon == u.beacon; });
+  }
+}
+
 }  // namespace
 
 Fix multilaterate(const BeaconLayout& layout, const RangeSet& ranges,
                   const MultilaterationOptions& options) {
   layout.validate();
   options.validate();
+  options.triangle.validate();
   Fix fix;
   fix.solver = Solver::kGaussNewton;
   Prepared prepared = prepare(layout, ranges, options.min_sd_m);
@@ -524,6 +544,9 @@ Fix multilaterate(const BeaconLayout& layout, const RangeSet& ranges,
     model.k_prior_sd = model.k_prior * relative_sd;
     model.consensus_slack_m = 4 * relative_sd * extent_m(layout);
   }
+
+  if (options.check_triangle)
+    reject_too_long(layout, options, model, prepared, fix.beacons);
 
   if (prepared.primaries.size() < 3) {
     fix.reason =

@@ -9,6 +9,7 @@
 #include "odoloc/board/encoder_pins.hpp"
 #include "odoloc/regs.hpp"
 #include "odoloc/rtl/encoder_fabric.hpp"
+#include "odoloc/sw/kleeman_solver.hpp"
 #include "odoloc/sw/multilateration.hpp"
 #include "odoloc/sw/spi_frame.hpp"
 #include "odoloc/world/acoustic_systems.hpp"
@@ -176,6 +177,35 @@ void BM_Fix_Multilateration(benchmark::State& state) {
                                 : "linear start + Gauss-Newton");
 }
 BENCHMARK(BM_Fix_Multilateration)->Arg(1)->Arg(0);
+
+// Kleeman's longsolve on the same cycle: a fresh solver (all 20 triples'
+// errors estimated, the paper's step 2 on a first call) or one that has
+// seen the robot here (errors kept: steps 1, 3, 4 only).
+void BM_Fix_Longsolve(benchmark::State& state) {
+  const odoloc::sw::locate::BeaconLayout layout = odoloc::tb::kleeman_layout();
+  const odoloc::sw::locate::RangeSet set = six_beacon_cycle(layout);
+  odoloc::sw::locate::Longsolve warm;
+  benchmark::DoNotOptimize(warm.solve(layout, set));
+  for (auto _ : state) {
+    if (state.range(0) != 0) {
+      odoloc::sw::locate::Longsolve fresh;
+      benchmark::DoNotOptimize(fresh.solve(layout, set));
+    } else {
+      benchmark::DoNotOptimize(warm.solve(layout, set));
+    }
+  }
+  state.SetLabel(state.range(0) != 0 ? "first call" : "errors kept");
+}
+BENCHMARK(BM_Fix_Longsolve)->Arg(1)->Arg(0);
+
+// Kleeman's eq. 4 iterated on one triple from 1 m away.
+void BM_Fix_KleemanTriple(benchmark::State& state) {
+  const odoloc::sw::locate::BeaconLayout layout = odoloc::tb::kleeman_layout();
+  const odoloc::sw::locate::RangeSet set = six_beacon_cycle(layout);
+  for (auto _ : state)
+    benchmark::DoNotOptimize(odoloc::sw::locate::solve_triple(layout, set, {0, 2, 4}, {4.4, 5.5}));
+}
+BENCHMARK(BM_Fix_KleemanTriple);
 
 }  // namespace
 

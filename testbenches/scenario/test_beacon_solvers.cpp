@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "odoloc/sw/kleeman_solver.hpp"
 #include "odoloc/sw/multilateration.hpp"
 #include "odoloc/world/acoustic_systems.hpp"
 #include "odoloc/world/acoustics.hpp"
@@ -154,6 +155,7 @@ Sample measure(world::AcousticWorld w, const world::Pose& pose, int block, doubl
 struct Tally {
   std::string name;
   int fixes = 0, no_fix = 0, false_fixes = 0;
+  int unbounded = 0;  // fixes where fewer than three beacons were heard directly (no bound)
   double sum_e2 = 0, sum_nees = 0, sum_bound2 = 0, sum_ratio = 0;
   void add(const loc::Fix& fix, const Sample& s) {
     if (!fix.valid) {
@@ -165,16 +167,24 @@ struct Tally {
     const double n = e.dot(fix.covariance_m2.inverse() * e);
     sum_e2 += e.squaredNorm();
     sum_nees += n;
-    sum_bound2 += s.bound_rms_m * s.bound_rms_m;
-    sum_ratio += e.squaredNorm() / (s.bound_rms_m * s.bound_rms_m);
+    if (std::isfinite(s.bound_rms_m)) {
+      sum_bound2 += s.bound_rms_m * s.bound_rms_m;
+      sum_ratio += e.squaredNorm() / (s.bound_rms_m * s.bound_rms_m);
+    } else {
+      ++unbounded;
+    }
     false_fixes += n > 100.0 ? 1 : 0;  // beyond 10 sigma
   }
   [[nodiscard]] double rms() const { return std::sqrt(sum_e2 / std::max(fixes, 1)); }
-  [[nodiscard]] double bound_rms() const { return std::sqrt(sum_bound2 / std::max(fixes, 1)); }
+  [[nodiscard]] double bound_rms() const {
+    return std::sqrt(sum_bound2 / std::max(fixes - unbounded, 1));
+  }
   [[nodiscard]] double mean_nees() const { return sum_nees / std::max(fixes, 1); }
   // Mean of |error|^2 / trace(bound): 1 for an efficient estimator, and far
   // less sensitive than the RMS ratio to the few points of poor geometry.
-  [[nodiscard]] double mean_bound_ratio() const { return sum_ratio / std::max(fixes, 1); }
+  [[nodiscard]] double mean_bound_ratio() const {
+    return sum_ratio / std::max(fixes - unbounded, 1);
+  }
   // The mean of n chi^2(2) draws: 95 % within 2 +- 1.96 * 2 / sqrt(n).
   [[nodiscard]] double nees_half_interval() const {
     return 1.96 * 2.0 / std::sqrt(static_cast<double>(std::max(fixes, 1)));
@@ -182,10 +192,11 @@ struct Tally {
   void print() const {
     std::printf(
         "  %-15s fixes %4d  no fix %4d  RMS %7.3f mm  CRLB RMS %6.3f mm (x %.2f; mean "
-        "e^2/CRLB %.2f)  NEES %.2f (95 %%: %.2f..%.2f)  false %d\n",
+        "e^2/CRLB %.2f)  NEES %.2f (95 %%: %.2f..%.2f)  false %d%s\n",
         name.c_str(), fixes, no_fix, 1e3 * rms(), 1e3 * bound_rms(), rms() / bound_rms(),
         mean_bound_ratio(), mean_nees(), 2 - nees_half_interval(), 2 + nees_half_interval(),
-        false_fixes);
+        false_fixes,
+        unbounded > 0 ? ("  (" + std::to_string(unbounded) + " on < 3 direct paths)").c_str() : "");
   }
 };
 
@@ -232,16 +243,41 @@ int checkable(const std::vector<Sample>& run) {
   }));
 }
 
+// The three position solvers on one run: the all-beacon estimator,
+// longsolve (a fresh one per point: each stands alone), and Kleeman's
+// three-beacon iteration on the triple longsolve ranked best, started from
+// the room's centre.
+struct SolverTallies {
+  Tally gn{"gauss-newton"};
+  Tally longsolve{"longsolve"};
+  Tally triple{"kleeman triple"};
+  void add(const loc::BeaconLayout& layout, const Sample& s, const loc::Fix& gn_fix) {
+    gn.add(gn_fix, s);
+    loc::Longsolve solver;
+    longsolve.add(solver.solve(layout, s.set), s);
+    if (const std::optional<loc::Triple> best = solver.best_triple())
+      triple.add(loc::solve_triple(layout, s.set, *best, {5, 5}), s);
+    else
+      ++triple.no_fix;
+  }
+  void print() const {
+    gn.print();
+    longsolve.print();
+    triple.print();
+  }
+};
+
 TEST(BeaconSolversMonteCarlo, CleanDataReachesTheBound) {
   const loc::BeaconLayout layout = layout_of(room_world());
   const std::vector<Sample> run = make_run({.points = 600, .seed = 2026});
-  Tally gn{"gauss-newton"};
+  SolverTallies all;
+  const Tally& gn = all.gn;
   for (const Sample& s : run)
-    gn.add(loc::multilaterate(layout, s.set), s);
+    all.add(layout, s, loc::multilaterate(layout, s.set));
   const int expected = checkable(run);
   std::printf("clean: %zu points, %d heard >= 4 beacons directly and nothing earlier\n", run.size(),
               expected);
-  gn.print();
+  all.print();
   EXPECT_LE(gn.rms(), 1.2 * gn.bound_rms());
   EXPECT_EQ(gn.false_fixes, 0);
   EXPECT_GE(gn.fixes, expected);
@@ -252,11 +288,12 @@ TEST(BeaconSolversMonteCarlo, OneEchoCorruptedBeacon) {
   const loc::BeaconLayout layout = layout_of(room_world());
   const std::vector<Sample> run =
       make_run({.points = 2000, .block_beacon = 1, .block_probability = 0.3, .seed = 7});
-  Tally gn{"gauss-newton"};
+  SolverTallies all;
+  const Tally& gn = all.gn;
   int corrupted = 0, rejected = 0;
   for (const Sample& s : run) {
     const loc::Fix fix = loc::multilaterate(layout, s.set);
-    gn.add(fix, s);
+    all.add(layout, s, fix);
     if (s.corrupted && !s.set.beacons[1].candidates.empty()) {
       ++corrupted;
       rejected += fix.valid && fix.beacons[1].status != loc::BeaconStatus::kUsed ? 1 : 0;
@@ -266,7 +303,7 @@ TEST(BeaconSolversMonteCarlo, OneEchoCorruptedBeacon) {
       "beacon 1 echo-corrupted in 30 %% of cycles: %zu points, %d with the echo heard (%d "
       "rejected in a valid fix)\n",
       run.size(), corrupted, rejected);
-  gn.print();
+  all.print();
   EXPECT_LE(gn.rms(), 2.0 * gn.bound_rms());
   EXPECT_LT(gn.false_fixes, std::max(1, gn.fixes / 1000));  // below 0.1 %
   EXPECT_NEAR(gn.mean_nees(), 2.0, gn.nees_half_interval());

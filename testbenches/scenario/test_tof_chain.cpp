@@ -12,6 +12,7 @@
 // error). ODOLOC_TEST_SCALE < 1 runs fewer poses.
 #include <gtest/gtest.h>
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -22,6 +23,8 @@
 
 #include "odoloc/board/chip_link.hpp"
 #include "odoloc/sw/beacon_cycle.hpp"
+#include "odoloc/sw/beacon_fix.hpp"
+#include "odoloc/sw/multilateration.hpp"
 #include "odoloc/sw/spi_frame.hpp"
 #include "odoloc/sw/tof_capture_driver.hpp"
 #include "odoloc/sw/tof_sync_modes.hpp"
@@ -33,6 +36,7 @@ namespace {
 
 namespace world = odoloc::world;
 namespace tof = odoloc::sw::tof;
+namespace loc = odoloc::sw::locate;
 using odoloc::board::ChipLink;
 using odoloc::sw::SpiRegisterBus;
 
@@ -172,12 +176,26 @@ TEST(TofChain, MonteCarloDistanceAndDirectionErrors) {
   const std::size_t n = w.beacons.size();
   std::vector<std::vector<double>> errors(n);
   std::vector<double> doa_errors;
+  // The whole chain, pins to fix: the all-beacon estimator on every locked cycle.
+  loc::BeaconLayout layout;
+  for (const world::Beacon& b : w.beacons)
+    layout.beacons.push_back({{b.position.x_m, b.position.y_m}, w.height_m});
+  double fix_e2 = 0, fix_nees = 0;
+  int fixes = 0, cycles = 0;
   for (int k = 0; k < poses; ++k) {
     const world::Pose pose{.x_m = xy(rng), .y_m = xy(rng), .theta_rad = heading(rng)};
     const ChainResult r = run_chain(pose, 2, 100 + static_cast<std::uint64_t>(k));
     for (const tof::CycleMeasurement& c : r.cycles) {
       if (!c.locked())
         continue;
+      ++cycles;
+      const loc::Fix fix = loc::multilaterate(layout, loc::range_set(c));
+      if (fix.valid) {
+        const Eigen::Vector2d e(fix.position_m.x - pose.x_m, fix.position_m.y - pose.y_m);
+        fix_e2 += e.squaredNorm();
+        fix_nees += e.dot(fix.covariance_m2.inverse() * e);
+        ++fixes;
+      }
       for (const tof::BeaconMeasurement& b : c.beacons) {
         const tof::Arrival* a = b.direct();
         if (a == nullptr || a->flags.has(tof::Flag::kInvalid))
@@ -221,6 +239,16 @@ TEST(TofChain, MonteCarloDistanceAndDirectionErrors) {
   std::printf("  direction of arrival: n %zu, rms %.3f deg, worst %.3f deg\n", doa_errors.size(),
               rms * 180 / std::numbers::pi, worst * 180 / std::numbers::pi);
   EXPECT_LT(rms, 1.0 * std::numbers::pi / 180);
+  // The fixes: every locked cycle gives one; their scatter is what the
+  // reported covariance says within a factor of two (NEES per fix near 2;
+  // the chain's own timing model sets the sd the solver weights with).
+  ASSERT_GT(fixes, 0);
+  std::printf(
+      "  fixes (multilaterate): %d of %d locked cycles, RMS error %.2f mm, mean NEES %.2f\n", fixes,
+      cycles, 1e3 * std::sqrt(fix_e2 / fixes), fix_nees / fixes);
+  EXPECT_EQ(fixes, cycles);
+  EXPECT_LT(std::sqrt(fix_e2 / fixes), 3e-3);
+  EXPECT_LT(fix_nees / fixes, 4.0);
 }
 
 // Thamma's RF-synchronised ranging at the pin level: four base stations,

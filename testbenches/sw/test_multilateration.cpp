@@ -198,19 +198,46 @@ TEST(Multilateration, ScatterMatchesTheCovarianceAndTheBound) {
   }
 }
 
-TEST(Multilateration, RejectsALongMeasurementAsAnOutlier) {
+// A long measurement is rejected: by the triangle check where it breaks
+// |d_i - d_j| <= |b_i b_j|, else by the consensus; without the triangle
+// check, always by the consensus.
+TEST(Multilateration, RejectsALongMeasurement) {
   const BeaconLayout layout = kleeman_layout();
-  std::mt19937_64 rng(16);
-  for (int trial = 0; trial < 200; ++trial) {
-    const Vec2 p = random_point(rng, 1, 9);
-    RangeSet set = exact_range_set(layout, p, 1.0, 1e-3, &rng);
-    const auto bad = static_cast<std::size_t>(trial % 6);
-    set.beacons[bad].candidates[0].distance_m += 0.05 + 0.01 * (trial % 50);
-    const Fix fix = multilaterate(layout, set);
-    ASSERT_TRUE(fix.valid) << name(fix.reason);
-    EXPECT_EQ(fix.beacons[bad].status, BeaconStatus::kOutlier) << trial;
-    EXPECT_EQ(fix.used(), 5);
-    EXPECT_LT(std::hypot(fix.position_m.x - p.x, fix.position_m.y - p.y), 0.01);
+  for (const bool triangle : {true, false}) {
+    std::mt19937_64 rng(16);
+    MultilaterationOptions options;
+    options.check_triangle = triangle;
+    int by_triangle = 0, by_consensus = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+      const Vec2 p = random_point(rng, 1, 9);
+      RangeSet set = exact_range_set(layout, p, 1.0, 1e-3, &rng);
+      const auto bad = static_cast<std::size_t>(trial % 6);
+      set.beacons[bad].candidates[0].distance_m += 0.05 + 0.05 * (trial % 50);
+      const Fix fix = multilaterate(layout, set, options);
+      ASSERT_TRUE(fix.valid) << name(fix.reason);
+      const BeaconStatus s = fix.beacons[bad].status;
+      ASSERT_TRUE(s == BeaconStatus::kOutlier ||
+                  (triangle && s == BeaconStatus::kTriangleInequality))
+          << name(s) << " " << trial;
+      (s == BeaconStatus::kOutlier ? by_consensus : by_triangle) += 1;
+      if (s == BeaconStatus::kTriangleInequality) {
+        // The other beacon of the failing pair really is that much shorter.
+        const int other = fix.beacons[bad].rejected_by;
+        ASSERT_GE(other, 0);
+        const double baseline =
+            std::hypot(layout.beacons[bad].position_m.x -
+                           layout.beacons[static_cast<std::size_t>(other)].position_m.x,
+                       layout.beacons[bad].position_m.y -
+                           layout.beacons[static_cast<std::size_t>(other)].position_m.y);
+        EXPECT_GT(set.beacons[bad].candidates[0].distance_m -
+                      set.beacons[static_cast<std::size_t>(other)].candidates[0].distance_m,
+                  baseline);
+      }
+      EXPECT_EQ(fix.used(), 5);
+      EXPECT_LT(std::hypot(fix.position_m.x - p.x, fix.position_m.y - p.y), 0.01);
+    }
+    EXPECT_GT(by_consensus, 0);
+    EXPECT_EQ(by_triangle > 0, triangle);
   }
 }
 

@@ -8,7 +8,8 @@
 // true one (1 when c is known; an unknown when calibrating, Kleeman 5.1),
 // noise_i ~ N(0, sd_i^2) independent. State (x, y, o) or (x, y, o, k).
 //
-// Pipeline: closed-form hypotheses from beacon triples (the hyperbola
+// Pipeline: the triangle-inequality check (kleeman_solver.hpp) ->
+// closed-form hypotheses from beacon triples (the hyperbola
 // intersection in closed form: linear in P for a given o, quadratic in o;
 // both roots) -> consensus over every usable beacon, trying a beacon's later
 // candidates (echoes) where its primary is suspect or disagrees (RANSAC,
@@ -25,6 +26,7 @@
 #include <span>
 
 #include "odoloc/sw/beacon_fix.hpp"
+#include "odoloc/sw/kleeman_solver.hpp"
 
 namespace odoloc::sw::locate {
 
@@ -67,6 +69,14 @@ struct MultilaterationOptions {
   // wall echo as a direct path exactly (docs/beacon-solvers.md); only the
   // hull tells them apart.
   double max_outside_hull_m = 0.25;
+
+  // The physical check before the consensus (Kleeman eqs. 5, 6): of a pair
+  // whose distance difference exceeds their baseline, the longer primary is
+  // rejected (a measurement can only be too long). Suspect primaries take no
+  // part: an early spurious pulse would make the others look long. When
+  // calibrating, the baseline fraction widens to 4 prior sd of c.
+  bool check_triangle = true;
+  TriangleOptions triangle;
 
   // Consensus: a candidate agrees with a hypothesis when its residual is
   // within inlier_sigmas x sd + inlier_floor_m (the floor covers the error of
