@@ -1,5 +1,5 @@
 // Heading from directions of arrival (soc_software beacon_heading):
-// Kleeman's six beacons (world::kleeman_beacons), bearings computed in long
+// Kleeman's six beacons (tb::kleeman_layout, as the acoustic world places them), bearings computed in long
 // double from a known pose, optionally with seeded DOA noise and a position
 // error drawn from the fix's covariance. Checked: exact recovery at every
 // heading including +-pi, the +-pi cut inside the averaging, errors against
@@ -15,15 +15,14 @@
 #include <stdexcept>
 #include <vector>
 
+#include "beacon_geometry.hpp"
 #include "odoloc/sw/beacon_heading.hpp"
 #include "odoloc/sw/tof_doa.hpp"
-#include "odoloc/world/acoustic_systems.hpp"
 
 namespace {
 
 namespace locate = odoloc::sw::locate;
 namespace tof = odoloc::sw::tof;
-namespace world = odoloc::world;
 using LD = long double;
 using locate::DoaStatus;
 using locate::HeadingReason;
@@ -31,12 +30,7 @@ constexpr LD kPiL = std::numbers::pi_v<LD>;
 constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180;
 
-locate::BeaconLayout kleeman_layout() {
-  locate::BeaconLayout layout;
-  for (const world::Beacon& b : world::kleeman_beacons(world::kleeman_room()))
-    layout.beacons.push_back({{b.position.x_m, b.position.y_m}, 0});
-  return layout;
-}
+using odoloc::tb::kleeman_layout;
 
 // A valid fix at p with covariance cov.
 locate::Fix fix_at(double x, double y, const Eigen::Matrix2d& cov = Eigen::Matrix2d::Zero()) {
