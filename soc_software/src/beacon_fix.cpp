@@ -215,6 +215,16 @@ Prepared prepare(const BeaconLayout& layout, const RangeSet& ranges, double min_
   return out;
 }
 
+void settle_unused(Fix& fix) {
+  if (fix.valid || (std::isfinite(fix.position_m.x) && std::isfinite(fix.position_m.y)))
+    return;
+  for (BeaconUse& u : fix.beacons)
+    if (u.status == BeaconStatus::kUsed) {
+      u.status = BeaconStatus::kUnused;
+      u.candidate = -1;
+    }
+}
+
 std::vector<Observation> alternatives(const RangeSet& ranges, int beacon, double min_sd_m) {
   std::vector<Observation> out;
   if (beacon < 0 || static_cast<std::size_t>(beacon) >= ranges.beacons.size())

@@ -553,6 +553,12 @@ double total_weight(const std::vector<Candidate>& candidates, const Average& a) 
 }  // namespace
 
 Fix Longsolve::solve(const BeaconLayout& layout, const RangeSet& ranges) {
+  Fix fix = solve_unsettled(layout, ranges);
+  settle_unused(fix);
+  return fix;
+}
+
+Fix Longsolve::solve_unsettled(const BeaconLayout& layout, const RangeSet& ranges) {
   layout.validate();
   if (!same_beacons(layout.beacons, layout_)) {
     reset();

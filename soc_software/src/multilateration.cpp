@@ -514,8 +514,10 @@ void reject_too_long(const BeaconLayout& layout, const MultilaterationOptions& o
 
 }  // namespace
 
-Fix multilaterate(const BeaconLayout& layout, const RangeSet& ranges,
-                  const MultilaterationOptions& options) {
+namespace {
+
+Fix multilaterate_unsettled(const BeaconLayout& layout, const RangeSet& ranges,
+                            const MultilaterationOptions& options) {
   layout.validate();
   options.validate();
   options.triangle.validate();
@@ -709,6 +711,15 @@ Fix multilaterate(const BeaconLayout& layout, const RangeSet& ranges,
   }
   fix.valid = true;
   fix.reason = NoFixReason::kNone;
+  return fix;
+}
+
+}  // namespace
+
+Fix multilaterate(const BeaconLayout& layout, const RangeSet& ranges,
+                  const MultilaterationOptions& options) {
+  Fix fix = multilaterate_unsettled(layout, ranges, options);
+  settle_unused(fix);
   return fix;
 }
 

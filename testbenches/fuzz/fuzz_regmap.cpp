@@ -14,11 +14,10 @@
 // (test_regmap_corpus compiles the outputs of its corpus for real.)
 #include <cstddef>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
 #include <sstream>
 #include <string>
 
+#include "fuzz_require.hpp"
 #include "markdown_table.hpp"
 #include "odoloc/regmap/regmap.hpp"
 
@@ -26,12 +25,7 @@ namespace {
 
 namespace rm = odoloc::regmap;
 
-void require(bool ok, const char* what, const std::string& text) {
-  if (!ok) {
-    std::fprintf(stderr, "invariant broken: %s\n----\n%s\n----\n", what, text.c_str());
-    std::abort();
-  }
-}
+using odoloc::tb::require;
 
 void no_control_characters(const std::string& s) {
   for (const char c : s) {

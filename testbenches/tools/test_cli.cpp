@@ -10,7 +10,6 @@
 #include <cctype>
 #include <cerrno>
 #include <cstring>
-#include <functional>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -27,6 +26,7 @@
 #include "odoloc/cli/target.hpp"
 #include "odoloc/cli/values.hpp"
 #include "odoloc/regs.hpp"
+#include "usage_message.hpp"
 
 namespace {
 
@@ -42,16 +42,7 @@ std::string field_path(const regs::Register& r, const regs::Field& f) {
 }
 
 using odoloc::tb::enum_name;
-
-std::string message_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const UsageError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no UsageError";
-  return {};
-}
+using odoloc::tb::message_of;
 
 // The fabric's register semantics from the generated masks: rw bits store,
 // w1c bits clear where 1 is written, w1p bits pulse (read 0), rc registers

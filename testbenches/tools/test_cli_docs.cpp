@@ -12,9 +12,12 @@
 //  - ```sh blocks with a line starting `odoloc ` or `$B ` run whole, in a
 //    fresh directory, under `set -e`; `B=...` lines are replaced by the built
 //    binary.
+//  - Every command runs in a fresh directory holding a link to the
+//    repository's examples/, so `examples/locate/layout.yaml` works as from
+//    the repository's root.
 //  - Lines naming a spidev target need a board and are skipped, as are sh
-//    blocks using sigrok-cli or gtkwave where they are not installed;
-//    ```text blocks (synopses) are not run.
+//    blocks using sigrok-cli, gtkwave or gnuplot where they are not
+//    installed; ```text blocks (synopses) are not run.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -93,7 +96,8 @@ struct Run {
   std::string out;
 };
 
-// `script` in a fresh temporary directory with `odoloc` on PATH and $B set.
+// `script` in a fresh temporary directory with `odoloc` on PATH, $B set and
+// examples/ linked.
 Run shell(const std::string& script) {
   static int serial = 0;
   const fs::path dir =
@@ -101,6 +105,7 @@ Run shell(const std::string& script) {
   fs::create_directories(dir);
   const fs::path file = dir / "example.sh";
   const fs::path binary{ODOLOC_CLI};
+  fs::create_directory_symlink(fs::path{ODOLOC_SOURCE_DIR} / "examples", dir / "examples");
   std::ofstream(file) << fmt::format("set -e\ncd '{}'\nexport PATH='{}':\"$PATH\"\nB='{}'\n{}\n",
                                      dir.string(), binary.parent_path().string(), binary.string(),
                                      script);
@@ -198,7 +203,7 @@ void check_sh(const Block& b) {
   if (!tool)
     return;
   // Optional viewers and decoders: the example needs them installed.
-  for (const char* optional : {"sigrok-cli", "gtkwave"}) {
+  for (const char* optional : {"sigrok-cli", "gtkwave", "gnuplot"}) {
     if (script.find(optional) != std::string::npos &&
         shell(fmt::format("command -v {} >/dev/null", optional)).code != 0) {
       std::cout << fmt::format("{}:{}: skipped, {} is not installed\n", b.file, b.line, optional);

@@ -1,6 +1,7 @@
 // The real `odoloc` binary, run as a child process (posix_spawn) on the
 // simulated board: every command, --json parsed back, exit codes, messages.
-// Expected values come from the generated register map, never from a run.
+// Expected values come from the generated register map, never from a run;
+// `locate`'s from the positions its files were written from.
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -22,10 +23,14 @@
 #include <thread>
 #include <vector>
 
+#include "beacon_geometry.hpp"
 #include "enum_name.hpp"
 #include "odoloc/board/sim_target.hpp"
+#include "odoloc/cli/locate.hpp"
+#include "odoloc/process/run_program.hpp"
 #include "odoloc/regs.hpp"
 #include "odoloc/rtl/clocked.hpp"
+#include "png_size.hpp"
 #include "vcd_check.hpp"
 
 extern char** environ;
@@ -763,6 +768,230 @@ TEST(CliE2eSigrok, DecodesReadBurstWriteAndCrcFramesOfThePinsWaveform) {
     checked = true;
   }
   EXPECT_TRUE(checked) << crc_mosi.size() << " frames";
+}
+
+// ------------------------------------------------------------------ locate
+
+namespace loc = odoloc::sw::locate;
+
+bool have_gnuplot() {
+  return odoloc::process::run_program("gnuplot", {"--version"}, ::testing::TempDir()).ok();
+}
+
+// Files written from known positions: Kleeman's six beacons in a 5 m x 4 m
+// room, 0.8 m above the receivers; distances exact (long double) plus each
+// cycle's common offset. Cycle by cycle (numbers from 100):
+//   0  every beacon once
+//   1  B3 heard twice: its direct arrival, then an echo 0.74 m later
+//   2  B4 failed: nan
+//   3  B1 not heard: no row
+//   4  B2's direct path blocked: only an echo, 0.9 m late
+//   5  only B0 and B3: no fix
+struct LocateCase {
+  loc::BeaconLayout layout = odoloc::tb::kleeman_layout(5, 4, 0.05, 0.8);
+  std::vector<loc::Vec2> truth = {{1.0, 1.0}, {1.7, 1.4}, {2.4, 1.9},
+                                  {3.1, 2.3}, {3.8, 2.8}, {2.0, 2.0}};
+  std::string dir = fmt::format("{}odoloc_locate_{}_", ::testing::TempDir(), ::getpid());
+  std::string layout_file = dir + "layout.yaml";
+  std::string arrivals_file = dir + "arrivals.csv";
+  std::string times_file = dir + "times.csv";
+
+  LocateCase() {
+    std::ofstream yaml(layout_file);
+    yaml << "# Kleeman's six beacons, 0.8 m up\nbeacons:\n";
+    for (std::size_t b = 0; b < layout.beacons.size(); ++b) {
+      const loc::Beacon& beacon = layout.beacons[b];
+      yaml << fmt::format("  - {{id: B{}, x: {:.17g}, y: {:.17g}, height: {:.17g}}}\n", b,
+                          beacon.position_m.x, beacon.position_m.y, beacon.height_m);
+    }
+    std::ofstream distances(arrivals_file);
+    std::ofstream times(times_file);
+    distances << "cycle,beacon,distance_m,sd_m\n";
+    times << "cycle,beacon,time_s\n";
+    for (std::size_t c = 0; c < truth.size(); ++c) {
+      const long double offset = 0.25L + 0.01L * static_cast<long double>(c);
+      for (std::size_t b = 0; b < layout.beacons.size(); ++b) {
+        const long double d = odoloc::tb::exact_range(layout, b, truth[c]) + offset;
+        const auto row = [&](const std::string& value, long double metres) {
+          distances << fmt::format("{},B{},{},0.001\n", 100 + c, b, value);
+          times << fmt::format("{},B{},{:.21Lg}\n", 100 + c, b, metres / 343.2L);
+        };
+        const std::string exact = fmt::format("{:.17Lg}", d);
+        if (c == 2 && b == 4) {
+          distances << fmt::format("{},B{},nan,\n", 100 + c, b);
+          times << fmt::format("{},B{},\n", 100 + c, b);
+        } else if (c == 3 && b == 1) {
+          continue;
+        } else if (c == 4 && b == 2) {
+          row(fmt::format("{:.17Lg}", d + 0.9L), d + 0.9L);
+        } else if (c == 5 && b != 0 && b != 3) {
+          continue;
+        } else {
+          row(exact, d);
+          if (c == 1 && b == 3)
+            row(fmt::format("{:.17Lg}", d + 0.74L), d + 0.74L);
+        }
+      }
+    }
+  }
+  LocateCase(const LocateCase&) = delete;
+  LocateCase& operator=(const LocateCase&) = delete;
+  ~LocateCase() {
+    for (const std::string& f : {layout_file, arrivals_file, times_file})
+      std::remove(f.c_str());
+  }
+
+  [[nodiscard]] std::vector<std::string> args(const std::string& arrivals) const {
+    return {"locate", "--layout", layout_file, "--arrivals", arrivals};
+  }
+};
+
+const json& beacon(const json& fix, int b) {
+  return fix["beacons"].at(static_cast<std::size_t>(b));
+}
+
+TEST(CliE2eLocate, FixesFromDistancesAndTimesAreTheKnownPositions) {
+  const LocateCase lc;
+  for (const std::string& file : {lc.arrivals_file, lc.times_file}) {
+    SCOPED_TRACE(file);
+    std::vector<std::string> args = lc.args(file);
+    args.emplace_back("--json");
+    const Result r = run(args);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_TRUE(r.err.empty()) << r.err;
+    const std::vector<json> fixes = json_lines(r.out);
+    ASSERT_EQ(fixes.size(), lc.truth.size()) << r.out;  // every cycle, with or without a fix
+    for (std::size_t c = 0; c + 1 < fixes.size(); ++c) {
+      SCOPED_TRACE(c);
+      const json& f = fixes[c];
+      EXPECT_EQ(f["cycle"], 100 + c);
+      EXPECT_EQ(f["solver"], "gauss_newton");
+      ASSERT_EQ(f["valid"], true) << f.dump();
+      EXPECT_NEAR(f["x_m"].get<double>(), lc.truth[c].x, 1e-6);
+      EXPECT_NEAR(f["y_m"].get<double>(), lc.truth[c].y, 1e-6);
+      EXPECT_NEAR(f["offset_m"].get<double>(), 0.25 + 0.01 * static_cast<double>(c), 1e-6);
+      EXPECT_NEAR(f["speed_of_sound_mps"].get<double>(), 343.2, 1e-9);
+      EXPECT_GT(f["sd_x_m"].get<double>(), 0);
+      EXPECT_EQ(f["beacons"].size(), 6U);
+    }
+    EXPECT_EQ(beacon(fixes[0], 3)["status"], "used");
+    EXPECT_EQ(beacon(fixes[1], 3)["candidate"], 0);  // the direct arrival, not the echo
+    EXPECT_EQ(beacon(fixes[2], 4)["status"], "non_finite");
+    EXPECT_EQ(fixes[2]["used"], 5);
+    EXPECT_EQ(beacon(fixes[3], 1)["status"], "missing");
+    EXPECT_EQ(beacon(fixes[4], 2)["status"], "outlier");
+    EXPECT_NEAR(beacon(fixes[4], 2)["residual_m"].get<double>(), 0.9, 1e-6);
+    const json& none = fixes[5];
+    EXPECT_EQ(none["cycle"], 105);
+    EXPECT_EQ(none["valid"], false);
+    EXPECT_EQ(none["reason"], "too_few_beacons");
+    EXPECT_TRUE(none["x_m"].is_null());
+    EXPECT_EQ(beacon(none, 1)["status"], "missing");
+  }
+}
+
+TEST(CliE2eLocate, TheTablePrintsTheSameFixes) {
+  const LocateCase lc;
+  const Result r = run(lc.args(lc.arrivals_file));
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::istringstream lines(r.out);
+  std::string line;
+  std::getline(lines, line);
+  EXPECT_TRUE(line.starts_with("cycle  solver")) << line;
+  for (std::size_t c = 0; c < lc.truth.size(); ++c) {
+    ASSERT_TRUE(std::getline(lines, line));
+    std::istringstream words(line);
+    std::string cycle, solver, valid, reason, x, y;
+    words >> cycle >> solver >> valid >> reason >> x >> y;
+    EXPECT_EQ(cycle, std::to_string(100 + c));
+    EXPECT_EQ(solver, "gauss_newton");
+    if (c + 1 == lc.truth.size()) {
+      EXPECT_EQ(valid, "no") << line;
+      EXPECT_EQ(reason, "too_few_beacons") << line;
+      EXPECT_EQ(x, "-") << line;
+      continue;
+    }
+    EXPECT_EQ(valid, "yes") << line;
+    EXPECT_NEAR(std::stod(x), lc.truth[c].x, 5.1e-5) << line;  // four decimals
+    EXPECT_NEAR(std::stod(y), lc.truth[c].y, 5.1e-5) << line;
+  }
+  EXPECT_FALSE(std::getline(lines, line)) << line;
+}
+
+// Kleeman's solvers on the same files: the clean cycles exact, every cycle
+// reported.
+TEST(CliE2eLocate, KleemansSolvers) {
+  const LocateCase lc;
+  for (const std::vector<std::string>& solver :
+       {std::vector<std::string>{"--solver", "longsolve"},
+        std::vector<std::string>{"--solver", "kleeman"},
+        std::vector<std::string>{"--solver", "kleeman", "--triple", "B0,B2,B4"}}) {
+    SCOPED_TRACE(solver.back());
+    std::vector<std::string> args = lc.args(lc.arrivals_file);
+    args.insert(args.end(), solver.begin(), solver.end());
+    args.emplace_back("--json");
+    const Result r = run(args);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::vector<json> fixes = json_lines(r.out);
+    ASSERT_EQ(fixes.size(), lc.truth.size()) << r.out;
+    for (std::size_t c = 0; c < 2; ++c) {
+      ASSERT_EQ(fixes[c]["valid"], true) << fixes[c].dump();
+      EXPECT_NEAR(fixes[c]["x_m"].get<double>(), lc.truth[c].x, 1e-6);
+      EXPECT_NEAR(fixes[c]["y_m"].get<double>(), lc.truth[c].y, 1e-6);
+    }
+    EXPECT_EQ(fixes[5]["valid"], false);
+  }
+}
+
+TEST(CliE2eLocate, ThePlotIsAPictureGnuplotDrew) {
+  if (!have_gnuplot())
+    GTEST_SKIP() << "gnuplot is not installed";
+  const LocateCase lc;
+  const std::string png = lc.dir + "fixes.png";
+  const std::string svg = lc.dir + "fixes.svg";
+  for (const std::string& picture : {png, svg}) {
+    std::vector<std::string> args = lc.args(lc.arrivals_file);
+    args.insert(args.end(), {"--plot", picture});
+    const Result r = run(args);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(lines(r.out), lc.truth.size() + 1);  // the table as well
+  }
+  const odoloc::tb::PngSize size = odoloc::tb::png_size(png);
+  EXPECT_EQ(size.width, static_cast<std::uint32_t>(odoloc::cli::kLocatePlotWidth));
+  EXPECT_EQ(size.height, static_cast<std::uint32_t>(odoloc::cli::kLocatePlotHeight));
+  const std::string text = slurp(svg);
+  EXPECT_TRUE(text.starts_with("<?xml")) << text.substr(0, 200);
+  EXPECT_NE(text.find("<svg"), std::string::npos);
+  EXPECT_NE(text.find("Produced by GNUPLOT"), std::string::npos);
+  EXPECT_NE(text.find(">B5<"), std::string::npos);  // the beacons' labels
+  EXPECT_NE(text.find("2-sigma error ellipses"), std::string::npos);
+  std::remove(png.c_str());
+  std::remove(svg.c_str());
+
+  // A picture that cannot be written: the fixes are printed, then exit 1.
+  std::vector<std::string> args = lc.args(lc.arrivals_file);
+  args.insert(args.end(), {"--plot", "/nonexistent/fixes.png"});
+  const Result r = run(args);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(lines(r.out), lc.truth.size() + 1);
+  EXPECT_TRUE(r.err.starts_with("odoloc: --plot: gnuplot did not write /nonexistent/fixes.png"))
+      << r.err;
+  EXPECT_EQ(lines(r.err), 1U) << r.err;
+}
+
+TEST(CliE2eLocate, MistakesInTheFilesAndOptionsAreUsageErrors) {
+  const LocateCase lc;
+  const std::string bad = lc.dir + "bad.csv";
+  std::ofstream(bad) << "cycle,beacon,distance_m\n0,B0,2.5\n0,B7,2.5\n";
+  expect_usage_error(
+      run(lc.args(bad)),
+      fmt::format("{}:3: unknown beacon 'B7' (the layout's: B0, B1, B2, B3, B4, B5)", bad));
+  std::remove(bad.c_str());
+  std::vector<std::string> args = lc.args(lc.arrivals_file);
+  args.insert(args.end(), {"--solver", "longsolve", "--calibrate-c"});
+  expect_usage_error(run(args), "--calibrate-c needs --solver gauss-newton");
+  expect_usage_error(run({"locate", "--arrivals", lc.arrivals_file}), "--layout is required");
+  expect_usage_error(run(lc.args(lc.dir + "none.csv")), "cannot open arrivals");
 }
 
 }  // namespace

@@ -5,8 +5,6 @@
 // (scripts/setup-debian.sh installs gnuplot-nox).
 #include <gtest/gtest.h>
 
-#include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -14,11 +12,14 @@
 #include <string>
 
 #include "odoloc/demo/plot.hpp"
+#include "png_size.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 using odoloc::demo::PlotSeries;
+using odoloc::tb::png_size;
+using odoloc::tb::PngSize;
 
 bool have_gnuplot() {
   return odoloc::process::run_program("gnuplot", {"--version"}, fs::current_path()).ok();
@@ -33,25 +34,6 @@ void write_csv(const fs::path& file) {
     out << t << ',' << std::cos(t) << ',' << std::sin(t) << ",0," << std::cos(t) + 0.001 << ','
         << std::sin(t) << ",1\n";
   }
-}
-
-struct PngSize {
-  std::uint32_t width = 0, height = 0;
-};
-// Width and height from the IHDR chunk; zeros when `file` is not a PNG.
-PngSize png_size(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::array<unsigned char, 24> header{};
-  in.read(reinterpret_cast<char*>(header.data()), header.size());  // NOLINT: bytes
-  static constexpr std::array<unsigned char, 8> kSignature = {0x89, 'P',  'N',  'G',
-                                                              '\r', '\n', 0x1A, '\n'};
-  if (!in || !std::equal(kSignature.begin(), kSignature.end(), header.begin()))
-    return {};
-  const auto be32 = [&](std::size_t at) {
-    return std::uint32_t{header[at]} << 24 | std::uint32_t{header[at + 1]} << 16 |
-           std::uint32_t{header[at + 2]} << 8 | std::uint32_t{header[at + 3]};
-  };
-  return {be32(16), be32(20)};
 }
 
 class DemoPlot : public ::testing::Test {

@@ -26,6 +26,7 @@ constexpr std::string_view kFooter =
     "target, 130 Ctrl-C.\n"
     "Every run of `--target sim` starts a fresh simulated chip; `odoloc script` runs many\n"
     "commands on one. Reading an rc register (reg read, dump, watch) clears it.\n"
+    "`odoloc locate` reads files only: it opens no target.\n"
     "Manual: docs/host-tool.md.";
 
 template <class... F>
@@ -97,7 +98,7 @@ std::map<std::uint16_t, std::uint32_t> read_locations(sw::RegisterBus& bus,
 // With `for_help`, only words that are there are checked (`odoloc --help`
 // and `odoloc reg --help` are fine, `odoloc frobnicate --help` is not).
 void check_command_words(std::span<const std::string> args, bool for_help = false) {
-  static const std::vector<std::string> kCommands{"reg", "script", "wait"};
+  static const std::vector<std::string> kCommands{"reg", "script", "wait", "locate"};
   static const std::vector<std::string> kRegCommands{"list", "read", "write", "dump", "watch"};
   std::vector<std::string> words;
   for (std::size_t i = 0; i < args.size() && words.size() < 2; ++i) {
@@ -131,7 +132,8 @@ void check_command_words(std::span<const std::string> args, bool for_help = fals
   if (words.empty() && for_help)
     return;
   if (words.empty())
-    throw UsageError("no command given; expected reg, script or wait (odoloc --help for usage)");
+    throw UsageError(
+        "no command given; expected reg, script, wait or locate (odoloc --help for usage)");
   check(words[0], kCommands, "command");
   if (words[0] == "reg" && words.size() == 1 && !for_help)
     throw UsageError("reg needs a command: list, read, write, dump or watch");
@@ -372,9 +374,14 @@ Invocation parse_invocation(std::span<const std::string> args) {
   struct {
     std::string filter, dump_filter, interval = "100ms", count, duration, file;
     std::vector<std::string> names, assignments;
+    std::string solver = "gauss-newton", temperature, triple;
   } raw;
+  LocateCommand locate_command;
 
-  CLI::App app{"Register access to the odoloc FPGA fabric over SPI (simulated or real).", "odoloc"};
+  CLI::App app{
+      "Register access to the odoloc FPGA fabric over SPI (simulated or real), and beacon fixes "
+      "from recorded arrivals.",
+      "odoloc"};
   app.footer(std::string{kFooter});
   app.fallthrough();
   app.require_subcommand(1);
@@ -423,6 +430,37 @@ Invocation parse_invocation(std::span<const std::string> args) {
   CLI::App* wait = app.add_subcommand("wait", "let time pass (simulated on sim): 100ms, 1s");
   wait->add_option("DURATION", raw.duration, "how long")->required();
   wait->fallthrough();
+  CLI::App* locate = app.add_subcommand(
+      "locate", "beacon fixes from a beacon layout and recorded arrivals (files only, no target)");
+  locate->add_option("--layout", locate_command.layout, "the beacons: YAML (id, x, y, height)")
+      ->type_name("FILE")
+      ->required();
+  locate
+      ->add_option("--arrivals", locate_command.arrivals,
+                   "CSV with a header: cycle,beacon,distance_m[,sd_m][,candidate] or "
+                   "cycle,beacon,time_s[,sd_s][,candidate]")
+      ->type_name("FILE")
+      ->required();
+  locate->add_option("--solver", raw.solver, "gauss-newton (default), longsolve or kleeman")
+      ->type_name("NAME");
+  locate
+      ->add_option("--triple", raw.triple,
+                   "kleeman: the three beacons, ID,ID,ID (default: per cycle the usable triple "
+                   "with the least predicted error)")
+      ->type_name("ID,ID,ID");
+  locate
+      ->add_option("--temperature", raw.temperature,
+                   "air temperature, degrees Celsius: the solvers assume c = 331.3 sqrt(1 + "
+                   "T/273.15) (overrides the layout's)")
+      ->type_name("C");
+  locate->add_flag("--calibrate-c", locate_command.calibrate_c,
+                   "gauss-newton: estimate the speed of sound too (5 or more beacons used)");
+  locate
+      ->add_option("--plot", locate_command.plot,
+                   "draw beacons, fixes and 2-sigma error ellipses with gnuplot: OUT.png or "
+                   "OUT.svg")
+      ->type_name("OUT");
+  locate->fallthrough();
 
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   try {
@@ -468,6 +506,14 @@ Invocation parse_invocation(std::span<const std::string> args) {
     inv.command = ScriptCommand{raw.file};
   } else if (wait->parsed()) {
     inv.command = WaitCommand{parse_interval(raw.duration)};
+  } else if (locate->parsed()) {
+    locate_command.solver = parse_solver(raw.solver);
+    if (!raw.temperature.empty())
+      locate_command.temperature_c = parse_temperature(raw.temperature);
+    if (!raw.triple.empty())
+      locate_command.triple = parse_triple(raw.triple);
+    check_locate(locate_command);
+    inv.command = std::move(locate_command);
   } else {
     throw UsageError("no command given (odoloc --help for usage)");
   }
@@ -508,7 +554,8 @@ void check_simulated(const Command& command) {
 }
 
 bool needs_target(const Command& command) {
-  return !std::holds_alternative<ListCommand>(command);
+  return !std::holds_alternative<ListCommand>(command) &&
+         !std::holds_alternative<LocateCommand>(command);
 }
 
 void execute(const Command& command, Target* target, std::ostream& out, bool json,
@@ -522,6 +569,7 @@ void execute(const Command& command, Target* target, std::ostream& out, bool jso
           [&](const WatchCommand& c) { run_watch(c, need(target), out, json, stop); },
           [&](const WaitCommand& c) { run_wait(c, need(target), out, json, stop); },
           [&](const ScriptCommand&) { throw UsageError("a script cannot run another script"); },
+          [&](const LocateCommand& c) { run_locate(c, out, json); },
       },
       command);
 }

@@ -195,6 +195,11 @@ struct Prepared {
 };
 Prepared prepare(const BeaconLayout& layout, const RangeSet& ranges, double min_sd_m = 1e-4);
 
+// The last step of every solver: a fix that never reached a position used
+// no beacon, so every kUsed becomes kUnused (the usable beacons stay
+// distinguishable from the rejected ones).
+void settle_unused(Fix& fix);
+
 // The later candidates of a beacon (alternatives to its primary), as
 // observations; non-finite or unusable ones are skipped.
 std::vector<Observation> alternatives(const RangeSet& ranges, int beacon, double min_sd_m = 1e-4);

@@ -189,6 +189,7 @@ class Longsolve {
   [[nodiscard]] const std::vector<Triple>& averaged() const { return averaged_; }
 
  private:
+  Fix solve_unsettled(const BeaconLayout& layout, const RangeSet& ranges);
   // Sensitivity of a triple at estimated_at_ (nullopt: singular there),
   // computed on first use after each estimation.
   const std::optional<TripleSensitivity>& sensitivity(const BeaconLayout& layout,

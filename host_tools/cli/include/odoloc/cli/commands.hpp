@@ -13,6 +13,7 @@
 #include <variant>
 #include <vector>
 
+#include "odoloc/cli/locate.hpp"
 #include "odoloc/cli/names.hpp"
 #include "odoloc/cli/target.hpp"
 
@@ -53,7 +54,7 @@ struct ScriptCommand {
   std::string file;  // "-": standard input
 };
 using Command = std::variant<ListCommand, ReadCommand, WriteCommand, DumpCommand, WatchCommand,
-                             WaitCommand, ScriptCommand>;
+                             WaitCommand, ScriptCommand, LocateCommand>;
 
 // One command line (the words after "odoloc").
 struct Invocation {
