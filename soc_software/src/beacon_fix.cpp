@@ -44,8 +44,9 @@ std::vector<Vec2> convex_hull(std::vector<Vec2> points) {
   return hull;
 }
 
+// A usable number: finite distance, finite non-negative deviation.
 bool finite(const RangeCandidate& c) {
-  return std::isfinite(c.distance_m) && std::isfinite(c.sd_m);
+  return std::isfinite(c.distance_m) && std::isfinite(c.sd_m) && c.sd_m >= 0;
 }
 
 }  // namespace

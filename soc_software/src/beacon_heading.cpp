@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -158,7 +159,8 @@ Heading beacon_heading(const Fix& fix, const BeaconLayout& layout, std::span<con
       use.status = DoaStatus::kNoDoa;
       continue;
     }
-    if (!std::isfinite(doa.bearing_rad) || !std::isfinite(doa.sd_rad)) {
+    // A deviation beyond pi (or negative) says no direction at all.
+    if (!std::isfinite(doa.bearing_rad) || !(doa.sd_rad >= 0 && doa.sd_rad <= std::numbers::pi)) {
       use.status = DoaStatus::kNonFinite;
       continue;
     }
@@ -198,6 +200,10 @@ Heading beacon_heading(const Fix& fix, const BeaconLayout& layout, std::span<con
   out.dof = static_cast<int>(active.size()) - 1;
   out.circular_variance = 1 - mean.resultant;
   out.circular_sd_rad = std::sqrt(-2 * std::log(mean.resultant));
+  if (!std::isfinite(out.heading_rad) || !(out.sd_rad > 0 && std::isfinite(out.sd_rad))) {
+    out.reason = HeadingReason::kNoValidDoa;  // the fix's covariance made the mean meaningless
+    return out;
+  }
   for (DoaUse& use : out.beacons)
     if (std::isfinite(use.heading_rad))
       use.residual_rad = tof::angle_difference(use.heading_rad, out.heading_rad);

@@ -34,6 +34,8 @@ void BinauralOptions::validate() const {
   require(std::isfinite(gate_sigmas) && gate_sigmas > 0, "gate_sigmas must be finite and positive");
   require(max_relative_orientation_rad > 0 && max_relative_orientation_rad <= std::numbers::pi,
           "max_relative_orientation_rad must be in (0, pi]");
+  require(std::isfinite(max_range_m) && max_range_m > baseline_m,
+          "max_range_m must be finite and longer than the baseline");
 }
 
 std::string_view name(BinauralReason reason) {
@@ -44,6 +46,8 @@ std::string_view name(BinauralReason reason) {
       return "missing_data";
     case BinauralReason::kNonFiniteInput:
       return "non_finite_input";
+    case BinauralReason::kOutOfRange:
+      return "out_of_range";
     case BinauralReason::kNoIntersection:
       return "no_intersection";
     case BinauralReason::kOnBaselineAxis:
@@ -71,14 +75,22 @@ TransmitterFix locate_transmitter(const tof::BinauralPairResult& pair,
     fix.reason = BinauralReason::kNonFiniteInput;
     return fix;
   }
+  const auto physical = [&](double r) { return r >= 0 && r <= options.max_range_m; };
+  if (!physical(r_left) || !physical(r_right)) {
+    fix.reason = BinauralReason::kOutOfRange;
+    return fix;
+  }
   // s from the coarse ranges; D from the phase unless tof could not decide
   // its whole cycles (kAmbiguous) or had no common edge, then the coarse
   // difference (the envelopes' when wired).
   const double s = r_left + r_right;
   const double var_s = 2 * options.range_sd_m * options.range_sd_m;
   const double phase_sd = c * pair.difference_sd_s;
+  // A phase path difference longer than the baseline allows (by more than
+  // the coarse noise) is no phase measurement either.
   fix.phase_used = std::isfinite(pair.path_difference_m) && std::isfinite(phase_sd) &&
-                   !pair.flags.has(Flag::kAmbiguous);
+                   std::abs(pair.path_difference_m) <= b + 10 * options.range_sd_m &&
+                   phase_sd <= b && !pair.flags.has(Flag::kAmbiguous);
   double d = 0;
   double var_d = 0;
   if (fix.phase_used) {
@@ -116,6 +128,10 @@ TransmitterFix locate_transmitter(const tof::BinauralPairResult& pair,
   Eigen::Matrix2d jacobian;  // d(x, y)/d(s, D)
   jacobian << d / (2 * b), s / (2 * b), s * hd / (4 * b2 * y), -d * es / (4 * b2 * y);
   fix.covariance_m2 = jacobian * Eigen::Vector2d(var_s, var_d).asDiagonal() * jacobian.transpose();
+  if (!fix.covariance_m2.allFinite()) {
+    fix.reason = BinauralReason::kNonFiniteInput;
+    return fix;
+  }
   fix.valid = true;
   fix.reason = BinauralReason::kNone;
   return fix;
@@ -165,6 +181,10 @@ RelativePose relative_pose(const tof::BinauralPairResult& robot2_hears_robot1,
   pose.distance_mismatch_m = p1.norm() - p2.norm();
   pose.distance_mismatch_sd_m =
       std::sqrt(u1.dot(f1.covariance_m2 * u1) + u2.dot(f2.covariance_m2 * u2));
+  if (!pose.covariance.allFinite()) {
+    pose.reason = BinauralReason::kNonFiniteInput;
+    return pose;
+  }
   if (std::abs(pose.distance_mismatch_m) > options.gate_sigmas * pose.distance_mismatch_sd_m) {
     pose.reason = BinauralReason::kInconsistent;
     return pose;

@@ -128,7 +128,7 @@ enum class BeaconStatus : std::uint8_t {
   kUsed,
   kNotInLayout,         // the range set has more beacons than the layout
   kMissing,             // no candidate, or the primary is flagged unusable (kUnusableFlags)
-  kNonFinite,           // the distance or its deviation is NaN or infinite
+  kNonFinite,           // the distance or its deviation is NaN or infinite (or the deviation < 0)
   kTriangleInequality,  // Kleeman eqs. 5/6: longer than another beacon's distance plus the baseline
   kTripleDeviation,     // longsolve: every triple using it deviated from the weighted average
   kOutlier,             // the robust estimator: outside the consensus (RANSAC) or residual test

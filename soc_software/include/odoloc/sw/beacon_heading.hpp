@@ -47,7 +47,7 @@ enum class DoaStatus : std::uint8_t {
   kUsed,
   kNotInLayout,  // more DOAs than beacons in the layout
   kNoDoa,        // tof::Doa::valid is false
-  kNonFinite,    // bearing or sd NaN or infinite
+  kNonFinite,    // bearing NaN or infinite, sd NaN, negative or beyond pi
   kAtBeacon,     // the fix is within HeadingOptions::min_range_m of the beacon
   kOutlier,      // studentised residual beyond HeadingOptions::outlier_sigmas
 };

@@ -49,6 +49,9 @@ struct BinauralOptions {
   double gate_sigmas = 3.0;
   // Paper sec. 4.3: relative orientation measured accurately within +-25 deg.
   double max_relative_orientation_rad = 0.436332312998582;
+  // Longest range a chirp can come from (the paper's robots work within a
+  // few metres); beyond, or negative, the TOF is not a measurement.
+  double max_range_m = 50.0;
 
   void validate() const;  // std::invalid_argument naming the field
 };
@@ -58,6 +61,7 @@ enum class BinauralReason : std::uint8_t {
   kNone,
   kMissingData,     // a receiver heard nothing (tof flag kMissing)
   kNonFiniteInput,  // NaN or infinite TOF
+  kOutOfRange,      // a range (c TOF) negative or beyond max_range_m: no chirp of this pair
   kNoIntersection,  // s < b or |D| > b beyond the noise: the circles do not meet (an echo)
   kOnBaselineAxis,  // the transmitter on the line through the receivers (tangent circles):
                     // front and back, and the lateral position, are not resolved
