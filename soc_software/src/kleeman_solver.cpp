@@ -710,7 +710,10 @@ Fix Longsolve::solve_unsettled(const BeaconLayout& layout, const RangeSet& range
       u.candidate = -1;
     }
   fix.position_m = vec2(average.point);
-  if (!average.consistent) {
+  // The average must rest on min_beacons measurements: one triple left
+  // (three beacons) fits whatever its errors, so the others' disagreement
+  // leaves nothing checked.
+  if (!average.consistent || fix.used() < options_.min_beacons) {
     fix.reason = NoFixReason::kInconsistent;
     return fix;
   }

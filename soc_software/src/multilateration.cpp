@@ -390,6 +390,8 @@ struct BeaconCandidates {
   std::vector<Observation> options;
 };
 
+constexpr double kRefuted = 1e300;  // the score of a hypothesis a short measurement refutes
+
 // Best consensus over triples of primaries (exhaustive or seeded sample).
 Consensus find_consensus(const Model& model, const std::vector<BeaconCandidates>& beacons,
                          const MultilaterationOptions& options, bool& any_geometry,
@@ -408,9 +410,14 @@ Consensus find_consensus(const Model& model, const std::vector<BeaconCandidates>
         // tried when it is suspect or disagrees.
         const double range =
             range_gradient(model.layout->beacons[static_cast<std::size_t>(o.beacon)], s.p).range;
-        const double e = std::abs(o.distance_m - (s.k * range + s.o));
+        const double signed_e = o.distance_m - (s.k * range + s.o);
+        const double e = std::abs(signed_e);
         const double threshold =
             options.inlier_sigmas * o.sd_m + options.inlier_floor_m + model.consensus_slack_m;
+        // A measurement can only be too long (Kleeman 4.3): a trusted primary
+        // much shorter than the hypothesis predicts refutes the hypothesis.
+        if (k == 0 && !o.suspect && signed_e < -threshold)
+          return Consensus{s, {}, -kRefuted};
         if (e <= threshold && (chosen == nullptr || e / threshold < chosen_norm)) {
           chosen = &o;
           chosen_norm = e / threshold;
@@ -510,6 +517,38 @@ void reject_too_long(const BeaconLayout& layout, const MultilaterationOptions& o
     uses[static_cast<std::size_t>(u.beacon)] = u;
     std::erase_if(prepared.primaries, [&](const Observation& o) { return o.beacon == u.beacon; });
   }
+}
+
+// The chi-square value a sum of `dof` squared standard normals exceeds with
+// the one-sided normal tail probability of z (Wilson-Hilferty: within a few
+// percent from one degree of freedom up).
+double chi2_quantile(int dof, double z) {
+  const double k = dof;
+  const double a = 2.0 / (9.0 * k);
+  return k * std::pow(1.0 - a + z * std::sqrt(a), 3);
+}
+
+// The final check of a fit: its chi-square within the gate's quantile (the
+// studentised test cannot drop the last redundant measurement), and no
+// trusted primary it rejected much shorter than it predicts (a measurement
+// can only be too long: a short one means the fix is the wrong one).
+bool consistent(const Fix& fix, const Model& model, std::span<const Observation> used,
+                const std::vector<BeaconCandidates>& candidates,
+                const MultilaterationOptions& options) {
+  if (fix.dof >= 1 && fix.chi2 > chi2_quantile(fix.dof, options.residual_gate_sigmas))
+    return false;
+  for (const BeaconCandidates& bc : candidates) {
+    const Observation& primary = bc.options.front();
+    const bool is_used = std::any_of(
+        used.begin(), used.end(), [&](const Observation& o) { return o.beacon == primary.beacon; });
+    if (is_used || primary.suspect)
+      continue;
+    const double e = fix.beacons[static_cast<std::size_t>(primary.beacon)].residual_m;
+    if (e <
+        -(options.inlier_sigmas * primary.sd_m + options.inlier_floor_m + model.consensus_slack_m))
+      return false;
+  }
+  return true;
 }
 
 }  // namespace
@@ -678,6 +717,10 @@ Fix multilaterate_unsettled(const BeaconLayout& layout, const RangeSet& ranges,
 
   if (!std::isfinite(fix.position_m.x) || !std::isfinite(fix.position_m.y)) {
     fix.reason = NoFixReason::kNotConverged;
+    return fix;
+  }
+  if (!consistent(fix, model, used, candidates, options)) {
+    fix.reason = NoFixReason::kInconsistent;
     return fix;
   }
   if (!enough) {
