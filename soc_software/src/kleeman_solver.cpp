@@ -332,6 +332,17 @@ Fix solve_triple(const BeaconLayout& layout, const std::array<Observation, 3>& o
   return fix;
 }
 
+namespace {
+// Kleeman 4.3 against a fix: a measurement can only be too long, so one
+// shorter than the fix predicts by more than the triangle check's tolerance
+// (its timing and survey terms, with the fix's own scatter) refutes the fix.
+bool too_short(double residual_m, double sd_m, double position_sd_m,
+               const TriangleOptions& tolerance) {
+  return residual_m <
+         -(tolerance.sigma_factor * std::hypot(sd_m, position_sd_m) + tolerance.margin_m);
+}
+}  // namespace
+
 Fix solve_triple(const BeaconLayout& layout, const RangeSet& ranges, const Triple& beacons,
                  Vec2 start_m, const TripleOptions& options) {
   layout.validate();
@@ -366,6 +377,24 @@ Fix solve_triple(const BeaconLayout& layout, const RangeSet& ranges, const Tripl
   Fix fix = solve_triple(layout, obs, start_m, options);
   for (const BeaconUse& u : fix.beacons)
     uses[static_cast<std::size_t>(u.beacon)] = u;
+  // The beacons left out, measured against the fix: three beacons check
+  // nothing, so their residuals are the only sign of a wrong one, and one
+  // that is too short refutes the fix (an echo is among the three).
+  if (std::isfinite(fix.position_m.x) && std::isfinite(fix.position_m.y)) {
+    const double position_sd = fix.valid ? std::sqrt(fix.covariance_m2.trace()) : 0.0;
+    for (const Observation& o : prepared.primaries) {
+      BeaconUse& u = uses[static_cast<std::size_t>(o.beacon)];
+      if (u.status != BeaconStatus::kUnused)
+        continue;
+      u.residual_m = o.distance_m -
+                     layout.range_m(static_cast<std::size_t>(o.beacon), fix.position_m) -
+                     fix.offset_m;
+      if (fix.valid && !o.suspect && too_short(u.residual_m, o.sd_m, position_sd, {})) {
+        fix.valid = false;
+        fix.reason = NoFixReason::kInconsistent;
+      }
+    }
+  }
   fix.beacons = std::move(uses);
   fix.speed_of_sound_mps = ranges.speed_of_sound_mps;
   return fix;
@@ -741,8 +770,7 @@ Fix Longsolve::solve_unsettled(const BeaconLayout& layout, const RangeSet& range
   // agree on a wrong point).
   const double position_sd = std::sqrt(fix.covariance_m2.trace());
   for (std::size_t i = 0; i < obs.size(); ++i)
-    if (residuals[i] < -(options_.triangle.sigma_factor * std::hypot(obs[i].sd_m, position_sd) +
-                         options_.triangle.margin_m)) {
+    if (too_short(residuals[i], obs[i].sd_m, position_sd, options_.triangle)) {
       fix.covariance_m2.setConstant(kNaN);
       fix.hdop = kNaN;
       fix.reason = NoFixReason::kInconsistent;

@@ -26,8 +26,7 @@ void MultilaterationOptions::validate() const {
   const auto fail = [](const std::string& field) {
     throw std::invalid_argument("MultilaterationOptions: " + field);
   };
-  if (temperature_c &&
-      !(std::isfinite(*temperature_c) && *temperature_c > -100 && *temperature_c < 100))
+  if (temperature_c && !(*temperature_c >= kMinTemperatureC && *temperature_c <= kMaxTemperatureC))
     fail("temperature_c must be within -100..100 C");
   if (!(std::isfinite(temperature_sd_c) && temperature_sd_c > 0))
     fail("temperature_sd_c must be finite and positive");

@@ -460,6 +460,38 @@ TEST(SolveTriple, RangeSetOverloadMarksEveryBeacon) {
   EXPECT_EQ(nan.beacons[5].status, BeaconStatus::kNonFinite);
 }
 
+// An echo among the three moves the fix; the beacons left out then show it
+// in their residuals, and one much shorter than the fix predicts refutes it
+// (a measurement can only be too long). At least one does at every point
+// tried here; without it the fix would be valid and metres off.
+TEST(SolveTriple, ABeaconLeftOutRefutesAFixWithAnEcho) {
+  const BeaconLayout layout = room();
+  std::mt19937_64 rng(31);
+  int refuted = 0, points = 0;
+  for (int n = 0; n < 200; ++n) {
+    const Vec2 p = random_point(rng, 1, 9);
+    RangeSet ranges = exact_range_set(layout, p, 1.5);
+    const Fix clean = solve_triple(layout, ranges, {0, 2, 4}, p);
+    ASSERT_TRUE(clean.valid);
+    for (const int b : {1, 3, 5})  // exact: the left-out residuals vanish
+      EXPECT_NEAR(clean.beacons[static_cast<std::size_t>(b)].residual_m, 0, 1e-9);
+    ranges.beacons[2].candidates[0].distance_m += 0.5;
+    const Fix echo = solve_triple(layout, ranges, {0, 2, 4}, p);
+    if (!std::isfinite(echo.position_m.x) || distance(echo.position_m, p) < 0.05)
+      continue;  // no solution, or the echo barely moves it
+    ++points;
+    if (!echo.valid) {  // refuted, or already outside the room
+      EXPECT_TRUE(echo.reason == NoFixReason::kInconsistent ||
+                  echo.reason == NoFixReason::kOutsideHull)
+          << name(echo.reason);
+      refuted += echo.reason == NoFixReason::kInconsistent ? 1 : 0;
+    }
+    EXPECT_FALSE(echo.valid) << p.x << ", " << p.y;
+  }
+  EXPECT_GT(points, 100);
+  EXPECT_GT(refuted, points / 2);
+}
+
 // ------------------------------------------------- triangle inequality
 
 // A (0,0), B (4,0), C (0,3): |AB| = 4, |AC| = 3, |BC| = 5.

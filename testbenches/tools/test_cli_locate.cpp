@@ -98,11 +98,11 @@ TEST(LocateLayout, EveryMistakeNamesTheFileTheLineAndTheKey) {
       {"beacons: 5\n", "layout.yaml:1: layout: beacons must be a list"},
       {"beacons:\n" + three, "layout.yaml:2: layout: 2 beacons; a layout has 3 to 64"},
       {"speed_of_sound: 0\nbeacons:\n" + three,
-       "layout.yaml:1: layout: speed_of_sound must be positive (m/s)"},
+       "layout.yaml:1: layout: speed_of_sound must be within 100..2000 m/s (air: 331.3 + 0.6 T)"},
       {"speed_of_sound: fast\nbeacons:\n" + three,
        "layout.yaml:1: layout: speed_of_sound must be a finite number, not 'fast'"},
       {"temperature: -273.15\nbeacons:\n" + three,
-       "layout.yaml:1: layout: temperature must be above -273.15 (degrees Celsius)"},
+       "layout.yaml:1: layout: temperature must be within -100..100 degrees Celsius"},
       {"beacons:\n" + three + "  - 5\n",
        "layout.yaml:4: beacons[2]: expected a mapping of id, x, y, height"},
       {"beacons:\n" + three + "  - {id: C, x: 1, y: 1, hieght: 2}\n",
@@ -259,6 +259,13 @@ TEST(LocateArrivals, EveryMistakeNamesTheFileAndTheLine) {
        "arrivals.csv:4: candidate 0 of beacon 'B0' in cycle 0 given twice (first on line 2)"},
       {"cycle,beacon,distance_m,candidate\n0,B0,1.5,0\n0,B0,1.7,2\n",
        "arrivals.csv:3: candidate 2 of beacon 'B0' in cycle 0 without a candidate 1"},
+      {header + "0,B0,2,0.001\n0,B0,2,0.001\n",
+       "arrivals.csv:3: candidate 1 of beacon 'B0' in cycle 0 (2 m) arrives with candidate 0 "
+       "(line 2): one wavefront given twice?"},
+      {"cycle,beacon,time_s,sd_s\n0,B0,1e307,1e-6\n",
+       "arrivals.csv:2: time_s '1e307' is out of range (its distance overflows)"},
+      {"cycle,beacon,time_s,sd_s\n0,B0,0.01,1e307\n",
+       "arrivals.csv:2: sd_s '1e307' is out of range (it overflows in metres)"},
       {"cycle,beacon,distance_m,candidate\n4,B2,1.7,1\n",
        "arrivals.csv:2: candidate 1 of beacon 'B2' in cycle 4 without a candidate 0"},
       {header + "0,B0,2,0.001\n0,B0,nan,0.001\n0,B0,1.5,0.001\n",
@@ -293,10 +300,12 @@ TEST(LocateOptions, EachIsCheckedAloneAndTogether) {
   EXPECT_EQ(message_of([] { (void)cli::parse_solver("gauss_newton"); }),
             "--solver: unknown solver 'gauss_newton' (gauss-newton, longsolve or kleeman)");
   EXPECT_DOUBLE_EQ(cli::parse_temperature("-5.5"), -5.5);
-  for (const char* bad : {"-273.15", "warm", "nan", "20C"})
+  EXPECT_DOUBLE_EQ(cli::parse_temperature("100"), 100);  // the limits are inclusive
+  EXPECT_DOUBLE_EQ(cli::parse_temperature("-100"), -100);
+  for (const char* bad : {"-273.15", "100.5", "1e6", "warm", "nan", "20C"})
     EXPECT_EQ(message_of([&] { (void)cli::parse_temperature(bad); }),
-              fmt::format("--temperature: '{}' is not a temperature in degrees Celsius above "
-                          "-273.15",
+              fmt::format("--temperature: '{}' is not a temperature within -100..100 degrees "
+                          "Celsius",
                           bad));
   EXPECT_EQ(cli::parse_triple("B0,B2,B4"), (std::vector<std::string>{"B0", "B2", "B4"}));
   for (const char* bad : {"B0,B2", "B0,B2,B0", "B0,,B2", "B0,B1,B2,B3"})
@@ -397,6 +406,11 @@ TEST(LocateFixes, TheTemperatureRescalesTheDistances) {
     const std::vector<cli::CycleFix> fixes = cli::locate_fixes(l, cycles, c);
     expect_on_path(fixes, fixes.front().fix.solver, 1e-6);
     EXPECT_NEAR(fixes.front().fix.speed_of_sound_mps, c_true, 1e-9);
+    // The offset in the file's units whatever the solver (Kleeman's solve
+    // rescaled distances): exact_cycles' 0.3 m + 0.05 m per cycle.
+    for (std::size_t i = 0; i < fixes.size(); ++i)
+      EXPECT_NEAR(fixes[i].fix.offset_m, 0.3 + 0.05 * static_cast<double>(i), 1e-6)
+          << loc::name(fixes[i].fix.solver);
   }
   l.temperature_c = 30;
   c.temperature_c = 5;
@@ -581,6 +595,21 @@ TEST(LocateRun, RunsFromFilesWithoutATarget) {
   const std::vector<std::string> missing = {"locate", "--layout", layout};
   EXPECT_EQ(cli::run_cli(missing, {in, out3, err3}, no_target), cli::kExitUsage);
   EXPECT_NE(err3.str().find("--arrivals is required"), std::string::npos) << err3.str();
+  // Board options given with locate are a mistake, not a silent no-op.
+  for (const std::vector<std::string>& global : {std::vector<std::string>{"-t", "spidev:/dev/nope"},
+                                                 {"--crc"},
+                                                 {"--vcd", "v.vcd"},
+                                                 {"--vcd-pins", "p.vcd"}}) {
+    std::vector<std::string> with = global;
+    with.insert(with.end(), args.begin(), args.end());
+    std::ostringstream out4, err4;
+    EXPECT_EQ(cli::run_cli(with, {in, out4, err4}, no_target), cli::kExitUsage) << global[0];
+    EXPECT_EQ(err4.str(), fmt::format("odoloc: {} does not apply to locate: it reads files and "
+                                      "opens no target\n",
+                                      global[0] == "-t" ? "--target" : global[0]));
+  }
+  // The JSON says whether c was estimated.
+  EXPECT_EQ(docs[0]["speed_of_sound_estimated"], false);
 }
 
 }  // namespace

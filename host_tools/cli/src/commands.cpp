@@ -507,6 +507,13 @@ Invocation parse_invocation(std::span<const std::string> args) {
   } else if (wait->parsed()) {
     inv.command = WaitCommand{parse_interval(raw.duration)};
   } else if (locate->parsed()) {
+    // locate reads files only: board options given with it are a mistake, not a no-op.
+    for (const auto& [given, option] :
+         {std::pair{target_opt->count() > 0, "--target"}, std::pair{inv.crc, "--crc"},
+          std::pair{!inv.vcd.empty(), "--vcd"}, std::pair{!inv.vcd_pins.empty(), "--vcd-pins"}})
+      if (given)
+        throw UsageError(
+            fmt::format("{} does not apply to locate: it reads files and opens no target", option));
     locate_command.solver = parse_solver(raw.solver);
     if (!raw.temperature.empty())
       locate_command.temperature_c = parse_temperature(raw.temperature);

@@ -239,9 +239,10 @@ LocateSolver parse_solver(std::string_view name) {
 
 double parse_temperature(std::string_view text) {
   const std::optional<double> t = parse_real(text);
-  if (!t || *t <= -273.15)
-    throw UsageError(fmt::format(
-        "--temperature: '{}' is not a temperature in degrees Celsius above -273.15", text));
+  if (!t || !(*t >= loc::kMinTemperatureC && *t <= loc::kMaxTemperatureC))
+    throw UsageError(
+        fmt::format("--temperature: '{}' is not a temperature within {}..{} degrees Celsius", text,
+                    loc::kMinTemperatureC, loc::kMaxTemperatureC));
   return *t;
 }
 
@@ -308,6 +309,12 @@ std::vector<CycleFix> locate_fixes(const LocateLayout& layout, std::span<const A
         f.fix = loc::solve_triple(layout.layout, ranges, *triple, start);
       else
         f.fix = best_triple_fix(layout.layout, ranges, start);
+      // The offset and residuals in the file's units, as gauss-newton reports them.
+      const double back = c.ranges.speed_of_sound_mps / ranges.speed_of_sound_mps;
+      f.fix.offset_m *= back;
+      f.fix.offset_sd_m *= back;
+      for (loc::BeaconUse& u : f.fix.beacons)
+        u.residual_m *= back;
     }
     if (f.fix.valid)
       last = f.fix.position_m;
@@ -352,6 +359,7 @@ nlohmann::json fix_json(const CycleFix& f, const LocateLayout& layout) {
           {"offset_sd_m", fix.offset_sd_m},
           {"speed_of_sound_mps", fix.speed_of_sound_mps},
           {"speed_of_sound_sd_mps", fix.speed_of_sound_sd_mps},
+          {"speed_of_sound_estimated", fix.speed_of_sound_estimated},
           {"iterations", fix.iterations},
           {"chi2", fix.chi2},
           {"dof", fix.dof},
@@ -412,12 +420,15 @@ std::string plot_script(std::span<const CycleFix> fixes, const LocateLayout& lay
       "  $beacons using 1:2:3 with labels offset 1.2,1.2 notitle",
       svg ? "svg" : "pngcairo", kLocatePlotWidth, kLocatePlotHeight, quoted, data.blocks, solver,
       valid, fixes.size());
+  // Cycle numbers on at most about 40 fixes: more would merge into a band.
+  constexpr long kMaxLabels = 40;
+  const long label_every = std::max(1L, (valid + kMaxLabels - 1) / kMaxLabels);
   if (valid > 0)
     script += fmt::format(
         ", \\\n  $fixes using 1:2:3:4:5 with ellipses lc rgb '#d62728' title '{}', \\\n"
         "  $fixes using 1:2 with points pt 7 ps 0.6 lc rgb '#2ca02c' title 'fixes', \\\n"
-        "  $fixes using 1:2:6 with labels offset 0.9,-0.9 font 'sans,8' notitle",
-        data.ellipse_title);
+        "  $fixes using 1:2:6 every {} with labels offset 0.9,-0.9 font 'sans,8' notitle",
+        data.ellipse_title, label_every);
   return script + "\n";
 }
 

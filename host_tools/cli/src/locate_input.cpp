@@ -17,6 +17,7 @@
 #include <sstream>
 
 #include "odoloc/cli/errors.hpp"
+#include "odoloc/sw/multilateration.hpp"
 
 namespace odoloc::cli {
 namespace {
@@ -135,13 +136,15 @@ LocateLayout parse_layout_checked(std::string_view yaml, std::string_view name) 
   LocateLayout out;
   if (const YAML::Node c = root["speed_of_sound"]) {
     out.speed_of_sound_mps = r.number(c, "speed_of_sound", "layout");
-    if (out.speed_of_sound_mps <= 0)
-      r.fail(c, "layout: speed_of_sound must be positive (m/s)");
+    if (!(out.speed_of_sound_mps >= 100 && out.speed_of_sound_mps <= 2000))
+      r.fail(c, "layout: speed_of_sound must be within 100..2000 m/s (air: 331.3 + 0.6 T)");
   }
   if (const YAML::Node t = root["temperature"]) {
     out.temperature_c = r.number(t, "temperature", "layout");
-    if (*out.temperature_c <= -273.15)
-      r.fail(t, "layout: temperature must be above -273.15 (degrees Celsius)");
+    if (!(*out.temperature_c >= sw::locate::kMinTemperatureC &&
+          *out.temperature_c <= sw::locate::kMaxTemperatureC))
+      r.fail(t, fmt::format("layout: temperature must be within {}..{} degrees Celsius",
+                            sw::locate::kMinTemperatureC, sw::locate::kMaxTemperatureC));
   }
   const YAML::Node beacons = root["beacons"];
   if (!beacons)
@@ -265,6 +268,11 @@ std::vector<RangeCandidate> candidates_of(std::vector<Candidate>& rows, std::uin
                             "are in order of arrival",
                             what, c.range.distance_m, previous->index, previous->range.distance_m,
                             previous->line));
+      if (previous != nullptr && c.range.distance_m == previous->range.distance_m)
+        fail_at(name, c.line,
+                fmt::format("{} ({} m) arrives with candidate {} (line {}): one wavefront given "
+                            "twice?",
+                            what, c.range.distance_m, previous->index, previous->line));
       previous = &c;
     }
     out.push_back(c.range);
@@ -318,6 +326,10 @@ std::vector<ArrivalCycle> parse_arrivals(std::string_view csv, std::string_view 
                 fmt::format("{} '{}' is not a number (empty or nan: no measurement)", column,
                             shown(value)));
       range.distance_m = times ? *v * layout.speed_of_sound_mps : *v;
+      if (!std::isfinite(range.distance_m))
+        fail_at(
+            name, line,
+            fmt::format("{} '{}' is out of range (its distance overflows)", column, shown(value)));
     }
     const std::string_view sd_column = times ? "sd_s" : "sd_m";
     if (const std::string_view sd = field(times ? Column::kSdS : Column::kSdM);
@@ -329,6 +341,10 @@ std::vector<ArrivalCycle> parse_arrivals(std::string_view csv, std::string_view 
                             "the default, {} m)",
                             sd_column, shown(sd), kDefaultSdM));
       range.sd_m = times ? *v * layout.speed_of_sound_mps : *v;
+      if (!std::isfinite(range.sd_m))
+        fail_at(
+            name, line,
+            fmt::format("{} '{}' is out of range (it overflows in metres)", sd_column, shown(sd)));
     }
     CycleRows& rows = cycles[cycle];
     rows.resize(layout.ids.size());

@@ -32,6 +32,11 @@ namespace odoloc::sw::locate {
 
 inline constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
+// The air temperatures the solvers accept (MultilaterationOptions, the host
+// tool's --temperature), degrees Celsius, inclusive.
+inline constexpr double kMinTemperatureC = -100;
+inline constexpr double kMaxTemperatureC = 100;
+
 // c = 331.3 sqrt(1 + T/273.15) m/s, dry air, T in degrees Celsius
 // (reference/localisation.md; Cramer, JASA 93(5), 1993 for humidity's
 // few tenths of a percent, not modelled). NaN below -273.15.
