@@ -86,10 +86,8 @@ TransmitterFix locate_transmitter(const tof::BinauralPairResult& pair,
   const double s = r_left + r_right;
   const double var_s = 2 * options.range_sd_m * options.range_sd_m;
   const double phase_sd = c * pair.difference_sd_s;
-  // A phase path difference longer than the baseline allows (by more than
-  // the coarse noise) is no phase measurement either.
+  // A phase whose deviation exceeds the baseline says nothing about D.
   fix.phase_used = std::isfinite(pair.path_difference_m) && std::isfinite(phase_sd) &&
-                   std::abs(pair.path_difference_m) <= b + 10 * options.range_sd_m &&
                    phase_sd <= b && !pair.flags.has(Flag::kAmbiguous);
   double d = 0;
   double var_d = 0;
