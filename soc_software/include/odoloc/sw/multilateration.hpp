@@ -16,7 +16,7 @@
 // exhaustive over triples when there are few) -> weighted Gauss-Newton with
 // Levenberg-Marquardt damping on the consensus -> studentised residual test,
 // dropping the worst while redundancy remains -> covariance (J^T W J)^-1.
-// Cost: about 5 us for 6 beacons (odoloc_bench BM_Fix_Multilateration).
+// Cost: about 7 us for 6 beacons (odoloc_bench BM_Fix_Multilateration).
 #pragma once
 
 #include <Eigen/Core>
