@@ -1,0 +1,73 @@
+// The HLS kernels' fixed-width integers: odoloc::hls::uint<W> and sint<W>.
+//
+// ODOLOC_HLS_TYPES picks the family:
+//   1  Xilinx ap_int.h   (Vitis HLS):            ap_uint<W>, ap_int<W>
+//   2  ac_int.h          (Catapult, Intel HLS):  ac_int<W, false>, ac_int<W, true>
+//   0  the project's own (own_int.hpp)
+// Unset: ap_int.h when the include path has it, else ac_int.h, else the own.
+// The three give the same results on the kernels (test_hls_types, and the
+// export test builds every kernel with each). Bit access goes through
+// bits<Hi, Lo>(x) and bit(x, i), which each family spells differently.
+#pragma once
+
+#ifndef ODOLOC_HLS_TYPES
+#if __has_include(<ap_int.h>)
+#define ODOLOC_HLS_TYPES 1
+#elif __has_include(<ac_int.h>)
+#define ODOLOC_HLS_TYPES 2
+#else
+#define ODOLOC_HLS_TYPES 0
+#endif
+#endif
+
+#if ODOLOC_HLS_TYPES == 1
+#include <ap_int.h>
+#elif ODOLOC_HLS_TYPES == 2
+#include <ac_int.h>
+#elif ODOLOC_HLS_TYPES == 0
+#include "odoloc/hls/own_int.hpp"
+#else
+#error "ODOLOC_HLS_TYPES must be 0 (own), 1 (ap_int.h) or 2 (ac_int.h)"
+#endif
+
+namespace odoloc::hls {
+
+#if ODOLOC_HLS_TYPES == 1
+inline constexpr const char* kTypeFamily = "ap_int.h";
+template <int W>
+using uint = ap_uint<W>;
+template <int W>
+using sint = ap_int<W>;
+template <int Hi, int Lo, int W, bool S>
+inline uint<Hi - Lo + 1> bits(const ap_int_base<W, S>& x) {
+  return x.range(Hi, Lo);
+}
+template <int W, bool S>
+inline bool bit(const ap_int_base<W, S>& x, int i) {
+  return x[i];
+}
+#elif ODOLOC_HLS_TYPES == 2
+inline constexpr const char* kTypeFamily = "ac_int.h";
+template <int W>
+using uint = ac_int<W, false>;
+template <int W>
+using sint = ac_int<W, true>;
+template <int Hi, int Lo, int W, bool S>
+inline uint<Hi - Lo + 1> bits(const ac_int<W, S>& x) {
+  return x.template slc<Hi - Lo + 1>(Lo);
+}
+template <int W, bool S>
+inline bool bit(const ac_int<W, S>& x, int i) {
+  return x[i];
+}
+#else
+inline constexpr const char* kTypeFamily = "own_int.hpp";
+template <int W>
+using uint = own::uint<W>;
+template <int W>
+using sint = own::sint<W>;
+using own::bit;
+using own::bits;
+#endif
+
+}  // namespace odoloc::hls
