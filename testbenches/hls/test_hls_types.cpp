@@ -65,6 +65,10 @@ void suite(std::mt19937_64& rng) {
     expect(value(mixed) == wrapped(i128{sv} + av, W + 1, true), "signed + unsigned", W, x, y);
     const hls::uint<W> left = a << 3;
     expect(value(left) == wrapped(i128{av} << 3, W, false), "shift left", W, x, y);
+    // Widen first, then shift: exact in every family (types.hpp's rule).
+    const hls::sint<W + 6> widened = s;
+    const hls::sint<W + 6> scaled = widened << 6;
+    expect(value(scaled) == sv * 64, "widened shift left", W, x, y);
     const hls::sint<W> right = s >> 2;
     expect(value(right) == (sv >> 2), "arithmetic shift right", W, x, y);
     expect((a < b) == (av < bv) && (s < t) == (sv < tv), "compare", W, x, y);

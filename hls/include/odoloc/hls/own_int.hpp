@@ -81,4 +81,10 @@ constexpr bool bit(fixed_int<W, S> x, int i) {
   return ((static_cast<std::uint64_t>(static_cast<std::int64_t>(x)) >> i) & 1U) != 0;
 }
 
+// The value as a host integer.
+template <int W, bool S>
+constexpr long long to_s64(fixed_int<W, S> x) {
+  return static_cast<std::int64_t>(x);
+}
+
 }  // namespace odoloc::hls::own

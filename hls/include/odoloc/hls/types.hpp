@@ -5,9 +5,13 @@
 //   2  ac_int.h          (Catapult, Intel HLS):  ac_int<W, false>, ac_int<W, true>
 //   0  the project's own (own_int.hpp)
 // Unset: ap_int.h when the include path has it, else ac_int.h, else the own.
+// One rule the kernels keep because the families differ there: a left shift
+// stays within its operand's width in ap_int and ac_int (it grows in the
+// own type), so a value is assigned to its wider type before shifting left.
 // The three give the same results on the kernels (test_hls_types, and the
-// export test builds every kernel with each). Bit access goes through
-// bits<Hi, Lo>(x) and bit(x, i), which each family spells differently.
+// export test builds every kernel with each). Bit access and the value as a
+// host integer go through bits<Hi, Lo>(x), bit(x, i) and to_s64(x), which each
+// family spells differently.
 #pragma once
 
 #ifndef ODOLOC_HLS_TYPES
@@ -46,6 +50,10 @@ template <int W, bool S>
 inline bool bit(const ap_int_base<W, S>& x, int i) {
   return x[i];
 }
+template <int W, bool S>
+inline long long to_s64(const ap_int_base<W, S>& x) {
+  return x.to_int64();
+}
 #elif ODOLOC_HLS_TYPES == 2
 inline constexpr const char* kTypeFamily = "ac_int.h";
 template <int W>
@@ -60,6 +68,10 @@ template <int W, bool S>
 inline bool bit(const ac_int<W, S>& x, int i) {
   return x[i];
 }
+template <int W, bool S>
+inline long long to_s64(const ac_int<W, S>& x) {
+  return x.to_int64();
+}
 #else
 inline constexpr const char* kTypeFamily = "own_int.hpp";
 template <int W>
@@ -68,6 +80,7 @@ template <int W>
 using sint = own::sint<W>;
 using own::bit;
 using own::bits;
+using own::to_s64;
 #endif
 
 }  // namespace odoloc::hls
