@@ -8,18 +8,15 @@
 #include <string>
 #include <utility>
 
+#include "config_checks.hpp"
+
 namespace odoloc::sw::tof {
 namespace {
 
+using detail::finite_non_negative;
+using detail::finite_positive;
 void require(bool ok, const std::string& message) {
-  if (!ok)
-    throw std::invalid_argument("KleemanConfig: " + message);
-}
-bool finite_positive(double v) {
-  return std::isfinite(v) && v > 0;
-}
-bool finite_non_negative(double v) {
-  return std::isfinite(v) && v >= 0;
+  detail::require(ok, "KleemanConfig", message);
 }
 std::string num(double v) {
   return std::to_string(v);

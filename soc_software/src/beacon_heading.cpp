@@ -7,14 +7,14 @@
 #include <stdexcept>
 #include <string>
 
+#include "config_checks.hpp"
 #include "odoloc/sw/tof_doa.hpp"
 
 namespace odoloc::sw::locate {
 namespace {
 
 void require(bool ok, const char* what) {
-  if (!ok)
-    throw std::invalid_argument(std::string("HeadingOptions: ") + what);
+  detail::require(ok, "HeadingOptions", what);
 }
 
 bool position_known(const Fix& fix) {

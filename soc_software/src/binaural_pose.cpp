@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "config_checks.hpp"
 #include "odoloc/sw/tof_doa.hpp"
 
 namespace odoloc::sw::locate {
@@ -18,8 +19,7 @@ double wrap(double a) {
 }
 
 void require(bool ok, const char* field) {
-  if (!ok)
-    throw std::invalid_argument(std::string("BinauralOptions: ") + field);
+  detail::require(ok, "BinauralOptions", field);
 }
 
 }  // namespace

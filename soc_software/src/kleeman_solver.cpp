@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "config_checks.hpp"
 #include "odoloc/sw/multilateration.hpp"
 
 namespace odoloc::sw::locate {
@@ -28,17 +29,9 @@ Vec2 vec2(const Vec2d& p) {
   return {p(0), p(1)};
 }
 
-void require(bool ok, const char* owner, const char* what) {
-  if (!ok)
-    throw std::invalid_argument(std::string(owner) + ": " + what);
-}
-
-bool finite_positive(double x) {
-  return std::isfinite(x) && x > 0;
-}
-bool finite_non_negative(double x) {
-  return std::isfinite(x) && x >= 0;
-}
+using detail::finite_non_negative;
+using detail::finite_positive;
+using detail::require;
 
 // The difference operator D: (d1 - d0, d2 - d1) = D (d0, d1, d2).
 TripleSensitivity difference_operator() {

@@ -9,6 +9,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "config_checks.hpp"
+
 namespace odoloc::sw::locate {
 
 double speed_of_sound_mps(double temperature_c) {
@@ -23,8 +25,8 @@ double speed_of_sound_slope(double temperature_c) {
 }
 
 void MultilaterationOptions::validate() const {
-  const auto fail = [](const std::string& field) {
-    throw std::invalid_argument("MultilaterationOptions: " + field);
+  const auto fail = [](std::string_view what) {
+    detail::require(false, "MultilaterationOptions", what);
   };
   if (temperature_c && !(*temperature_c >= kMinTemperatureC && *temperature_c <= kMaxTemperatureC))
     fail("temperature_c must be within -100..100 C");

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "config_checks.hpp"
 #include "odoloc/sw/tof_doa.hpp"
 
 namespace odoloc::sw::locate {
@@ -243,43 +244,40 @@ Eigen::Matrix2d rotation(double theta) {
   return Eigen::Rotation2Dd(theta).toRotationMatrix();
 }
 
-void require(bool ok, const std::string& what) {
-  if (!ok)
-    throw std::invalid_argument(what);
-}
+using detail::require;
 
 }  // namespace
 
 void ThammaOptions::validate() const {
-  require(std::isfinite(min_sd_m) && min_sd_m > 0,
-          "ThammaOptions: min_sd_m must be finite and positive");
-  require(max_iterations >= 1, "ThammaOptions: max_iterations must be at least 1");
-  require(std::isfinite(step_tolerance_m) && step_tolerance_m > 0,
-          "ThammaOptions: step_tolerance_m must be finite and positive");
-  require(max_outside_hull_m >= 0, "ThammaOptions: max_outside_hull_m must not be negative");
-  require(std::isfinite(gate_sigmas) && gate_sigmas > 0,
-          "ThammaOptions: gate_sigmas must be finite and positive");
+  require(std::isfinite(min_sd_m) && min_sd_m > 0, "ThammaOptions",
+          "min_sd_m must be finite and positive");
+  require(max_iterations >= 1, "ThammaOptions", "max_iterations must be at least 1");
+  require(std::isfinite(step_tolerance_m) && step_tolerance_m > 0, "ThammaOptions",
+          "step_tolerance_m must be finite and positive");
+  require(max_outside_hull_m >= 0, "ThammaOptions", "max_outside_hull_m must not be negative");
+  require(std::isfinite(gate_sigmas) && gate_sigmas > 0, "ThammaOptions",
+          "gate_sigmas must be finite and positive");
 }
 
 void ThammaBody::validate() const {
   require(std::isfinite(head_m.x) && std::isfinite(head_m.y) && std::isfinite(tail_m.x) &&
               std::isfinite(tail_m.y),
-          "ThammaBody: head_m and tail_m must be finite");
-  require(std::hypot(head_m.x - tail_m.x, head_m.y - tail_m.y) >= 1e-3,
-          "ThammaBody: head_m and tail_m must be at least 1 mm apart");
-  require(head_box >= 0 && tail_box >= 0 && head_box != tail_box,
-          "ThammaBody: head_box and tail_box must be two different box indices");
+          "ThammaBody", "head_m and tail_m must be finite");
+  require(std::hypot(head_m.x - tail_m.x, head_m.y - tail_m.y) >= 1e-3, "ThammaBody",
+          "head_m and tail_m must be at least 1 mm apart");
+  require(head_box >= 0 && tail_box >= 0 && head_box != tail_box, "ThammaBody",
+          "head_box and tail_box must be two different box indices");
   if (!receivers.receivers.empty())
     receivers.validate();
 }
 
 void ThammaPoseOptions::validate() const {
   fix.validate();
-  require(max_passes >= 1, "ThammaPoseOptions: max_passes must be at least 1");
-  require(std::isfinite(heading_tolerance_rad) && heading_tolerance_rad > 0,
-          "ThammaPoseOptions: heading_tolerance_rad must be finite and positive");
-  require(std::isfinite(separation_sigmas) && separation_sigmas > 0,
-          "ThammaPoseOptions: separation_sigmas must be finite and positive");
+  require(max_passes >= 1, "ThammaPoseOptions", "max_passes must be at least 1");
+  require(std::isfinite(heading_tolerance_rad) && heading_tolerance_rad > 0, "ThammaPoseOptions",
+          "heading_tolerance_rad must be finite and positive");
+  require(std::isfinite(separation_sigmas) && separation_sigmas > 0, "ThammaPoseOptions",
+          "separation_sigmas must be finite and positive");
 }
 
 std::string_view name(ThammaPoseReason reason) {

@@ -247,9 +247,11 @@ TEST(TofChain, MonteCarloDistanceAndDirectionErrors) {
   std::printf("  direction of arrival: n %zu, rms %.3f deg, worst %.3f deg\n", doa_errors.size(),
               rms * 180 / std::numbers::pi, worst * 180 / std::numbers::pi);
   EXPECT_LT(rms, 1.0 * std::numbers::pi / 180);
-  // The fixes: every locked cycle gives one; their scatter is what the
-  // reported covariance says within a factor of two (NEES per fix near 2;
-  // the chain's own timing model sets the sd the solver weights with).
+  // The fixes: every locked cycle gives one, within 3 mm, and no worse than
+  // the reported covariance says (mean NEES below 4). This world has no
+  // turbulence, so the decoder's 1 us timing model makes the covariance
+  // conservative here (NEES about 0.1; test_beacon_solvers checks NEES = 2
+  // where the noise model is the true one).
   ASSERT_GT(fixes, 0);
   std::printf(
       "  fixes (multilaterate): %d of %d locked cycles, RMS error %.2f mm, mean NEES %.2f\n", fixes,

@@ -1,10 +1,9 @@
 // Heading from directions of arrival (soc_software beacon_heading):
-// Kleeman's six beacons (tb::kleeman_layout, as the acoustic world places them), bearings computed in long
-// double from a known pose, optionally with seeded DOA noise and a position
-// error drawn from the fix's covariance. Checked: exact recovery at every
-// heading including +-pi, the +-pi cut inside the averaging, errors against
-// the propagated sd (normalised error squared, position covariance
-// included), outlier rejection, and every way the input can be unusable.
+// Kleeman's six beacons (tb::kleeman_layout, as the acoustic world places them), bearings computed
+// in long double from a known pose, optionally with seeded DOA noise and a position error drawn
+// from the fix's covariance. Checked: exact recovery at every heading including +-pi, the +-pi cut
+// inside the averaging, errors against the propagated sd (normalised error squared, position
+// covariance included), outlier rejection, and every way the input can be unusable.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
