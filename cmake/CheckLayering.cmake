@@ -7,6 +7,9 @@
 #   soc_software/       never odoloc/rtl/, odoloc/world/, odoloc/board/, odoloc/cli/
 #   host_tools/world/   the C++ standard library and odoloc/world/... only
 #   host_tools/board/   never odoloc/cli/
+#   hls/include, hls/src  the standard library, odoloc/hls/, the model's C++14
+#                       constant headers (odoloc/rtl/*_constants.hpp) and the
+#                       vendors' type headers only: kernels are exported alone
 #   testbenches/world/  never odoloc/rtl/, odoloc/sw/, odoloc/board/ (the
 #                       world is tested without the model)
 #
@@ -110,6 +113,11 @@ check_layer(host_tools/world "the world includes only the standard library and o
             ALLOW_STD ALLOW "^odoloc/world/")
 check_layer(host_tools/board "the board never includes the host tool"
             DENY "^odoloc/cli/")
+foreach(dir hls/include hls/src)
+  check_layer(${dir} "a kernel includes only odoloc/hls/, the model's constant headers and the vendor's"
+              ALLOW_STD ALLOW "^odoloc/hls/" "^odoloc/rtl/[a-z_0-9]+_constants\\.hpp$"
+                              "^ap_int\\.h$" "^ac_int\\.h$" "^HLS/(hls|ac_int)\\.h$")
+endforeach()
 check_layer(testbenches/world "the world's tests never include the model, the software or the board"
             DENY "^odoloc/rtl/" "^odoloc/sw/" "^odoloc/board/" "^odoloc/regs\\.hpp$")
 

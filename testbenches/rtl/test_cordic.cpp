@@ -122,6 +122,8 @@ TEST(Cordic, LoadWhileBusyIsIgnoredAndFlagged) {
 }
 
 TEST(CordicConstants, PaperGainAndGeneratedTables) {
+  // pi from Machin's formula, within one long double ulp (2.2e-19).
+  EXPECT_LE(std::fabs(cordic::kPi - std::numbers::pi_v<long double>), 2.2e-19L);
   // The paper's 1/A16 for 16 micro-rotations with shifts 0..15.
   EXPECT_NEAR(static_cast<double>(cordic::kPaperInverseGain), 0.60725293510314, 1e-14);
   long double product = 1;

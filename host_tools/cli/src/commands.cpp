@@ -8,11 +8,13 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <ostream>
+#include <ranges>
 #include <sstream>
 
 #include "odoloc/cli/errors.hpp"
 #include "odoloc/cli/format.hpp"
 #include "odoloc/cli/values.hpp"
+#include "odoloc/hls_export/reference.hpp"
 
 namespace odoloc::cli {
 namespace {
@@ -26,7 +28,8 @@ constexpr std::string_view kFooter =
     "target, 130 Ctrl-C.\n"
     "Every run of `--target sim` starts a fresh simulated chip; `odoloc script` runs many\n"
     "commands on one. Reading an rc register (reg read, dump, watch) clears it.\n"
-    "`odoloc locate` reads files only: it opens no target.\n"
+    "`odoloc locate` reads files only and `odoloc export-hls` writes files only: neither opens\n"
+    "a target.\n"
     "Manual: docs/host-tool.md.";
 
 template <class... F>
@@ -98,7 +101,7 @@ std::map<std::uint16_t, std::uint32_t> read_locations(sw::RegisterBus& bus,
 // With `for_help`, only words that are there are checked (`odoloc --help`
 // and `odoloc reg --help` are fine, `odoloc frobnicate --help` is not).
 void check_command_words(std::span<const std::string> args, bool for_help = false) {
-  static const std::vector<std::string> kCommands{"reg", "script", "wait", "locate"};
+  static const std::vector<std::string> kCommands{"reg", "script", "wait", "locate", "export-hls"};
   static const std::vector<std::string> kRegCommands{"list", "read", "write", "dump", "watch"};
   std::vector<std::string> words;
   for (std::size_t i = 0; i < args.size() && words.size() < 2; ++i) {
@@ -133,7 +136,8 @@ void check_command_words(std::span<const std::string> args, bool for_help = fals
     return;
   if (words.empty())
     throw UsageError(
-        "no command given; expected reg, script, wait or locate (odoloc --help for usage)");
+        "no command given; expected reg, script, wait, locate or export-hls (odoloc --help for "
+        "usage)");
   check(words[0], kCommands, "command");
   if (words[0] == "reg" && words.size() == 1 && !for_help)
     throw UsageError("reg needs a command: list, read, write, dump or watch");
@@ -375,6 +379,9 @@ Invocation parse_invocation(std::span<const std::string> args) {
     std::string filter, dump_filter, interval = "100ms", count, duration, file;
     std::vector<std::string> names, assignments;
     std::string solver = "gauss-newton", temperature, triple;
+    std::string hls_out, hls_tool = "vitis";
+    std::vector<std::string> hls_kernels;
+    bool hls_force = false;
   } raw;
   LocateCommand locate_command;
 
@@ -461,6 +468,29 @@ Invocation parse_invocation(std::span<const std::string> args) {
                    "OUT.svg")
       ->type_name("OUT");
   locate->fallthrough();
+  CLI::App* export_hls = app.add_subcommand(
+      "export-hls",
+      "write the HLS kernels as standalone Vitis HLS, Catapult or Intel HLS trees (files only, "
+      "no target)");
+  export_hls
+      ->add_option("--out", raw.hls_out,
+                   "the folder to write, one subfolder per kernel; it must be absent or empty "
+                   "unless --force")
+      ->type_name("DIR")
+      ->required();
+  export_hls
+      ->add_option(
+          "--kernel", raw.hls_kernels,
+          fmt::format("a kernel to export (repeatable; default: all): {}",
+                      fmt::join(hls_export::kernels() |
+                                    std::views::transform(&hls_export::KernelDescription::name),
+                                ", ")))
+      ->type_name("NAME");
+  export_hls->add_option("--tool", raw.hls_tool, "vitis (default), catapult or intel")
+      ->type_name("TOOL");
+  export_hls->add_flag("--force", raw.hls_force,
+                       "OUT may hold files: replace the exported kernels' folders in it");
+  export_hls->fallthrough();
 
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   try {
@@ -485,6 +515,16 @@ Invocation parse_invocation(std::span<const std::string> args) {
     throw UsageError(fmt::format("{} (odoloc --help for usage)", one_line(e.what())));
   }
   inv.target_given = target_opt->count() > 0;
+  // The file-only commands open no target: board options given with them are
+  // a mistake, not a no-op.
+  const auto refuse_board_options = [&](std::string_view command, std::string_view does) {
+    for (const auto& [given, option] :
+         {std::pair{target_opt->count() > 0, "--target"}, std::pair{inv.crc, "--crc"},
+          std::pair{!inv.vcd.empty(), "--vcd"}, std::pair{!inv.vcd_pins.empty(), "--vcd-pins"}})
+      if (given)
+        throw UsageError(fmt::format("{} does not apply to {}: it {} and opens no target", option,
+                                     command, does));
+  };
 
   if (list->parsed()) {
     inv.command = ListCommand{raw.filter};
@@ -507,13 +547,7 @@ Invocation parse_invocation(std::span<const std::string> args) {
   } else if (wait->parsed()) {
     inv.command = WaitCommand{parse_interval(raw.duration)};
   } else if (locate->parsed()) {
-    // locate reads files only: board options given with it are a mistake, not a no-op.
-    for (const auto& [given, option] :
-         {std::pair{target_opt->count() > 0, "--target"}, std::pair{inv.crc, "--crc"},
-          std::pair{!inv.vcd.empty(), "--vcd"}, std::pair{!inv.vcd_pins.empty(), "--vcd-pins"}})
-      if (given)
-        throw UsageError(
-            fmt::format("{} does not apply to locate: it reads files and opens no target", option));
+    refuse_board_options("locate", "reads files");
     locate_command.solver = parse_solver(raw.solver);
     if (!raw.temperature.empty())
       locate_command.temperature_c = parse_temperature(raw.temperature);
@@ -521,6 +555,14 @@ Invocation parse_invocation(std::span<const std::string> args) {
       locate_command.triple = parse_triple(raw.triple);
     check_locate(locate_command);
     inv.command = std::move(locate_command);
+  } else if (export_hls->parsed()) {
+    refuse_board_options("export-hls", "writes files");
+    ExportHlsCommand command;
+    command.request.out = raw.hls_out;
+    command.request.kernels = raw.hls_kernels;
+    command.request.tool = parse_hls_tool(raw.hls_tool);
+    command.request.force = raw.hls_force;
+    inv.command = std::move(command);
   } else {
     throw UsageError("no command given (odoloc --help for usage)");
   }
@@ -562,7 +604,8 @@ void check_simulated(const Command& command) {
 
 bool needs_target(const Command& command) {
   return !std::holds_alternative<ListCommand>(command) &&
-         !std::holds_alternative<LocateCommand>(command);
+         !std::holds_alternative<LocateCommand>(command) &&
+         !std::holds_alternative<ExportHlsCommand>(command);
 }
 
 void execute(const Command& command, Target* target, std::ostream& out, bool json,
@@ -577,6 +620,7 @@ void execute(const Command& command, Target* target, std::ostream& out, bool jso
           [&](const WaitCommand& c) { run_wait(c, need(target), out, json, stop); },
           [&](const ScriptCommand&) { throw UsageError("a script cannot run another script"); },
           [&](const LocateCommand& c) { run_locate(c, out, json); },
+          [&](const ExportHlsCommand& c) { run_export_hls(c, out, json); },
       },
       command);
 }

@@ -10,13 +10,16 @@
 //   values, as the vendors' widened results do, provided every intermediate
 //   fits in 63 bits: the kernels keep to that (docs/hls.md), and
 //   test_hls_types compares the three families on the same expressions.
-// Header-only, constexpr, no containers, no heap.
+// Header-only, constexpr, no containers, no heap; C++14, as the HLS tools'
+// front ends accept (docs/hls.md).
 #pragma once
 
-#include <concepts>
 #include <cstdint>
+#include <type_traits>
 
-namespace odoloc::hls::own {
+namespace odoloc {
+namespace hls {
+namespace own {
 
 template <int W, bool Signed>
 class fixed_int {
@@ -27,7 +30,7 @@ class fixed_int {
   static constexpr bool is_signed = Signed;
 
   constexpr fixed_int() = default;
-  template <std::integral T>
+  template <typename T, typename = typename std::enable_if<std::is_integral<T>::value>::type>
   constexpr fixed_int(T value)  // NOLINT(google-explicit-constructor): wraps, as ap_int does
       : value_(wrap(static_cast<std::int64_t>(value))) {}
   template <int W2, bool S2>
@@ -50,13 +53,9 @@ class fixed_int {
 
  private:
   static constexpr std::int64_t wrap(std::int64_t v) {
-    const auto bits = static_cast<std::uint64_t>(v) & ((std::uint64_t{1} << W) - 1);
-    if constexpr (Signed) {
-      const std::uint64_t sign = std::uint64_t{1} << (W - 1);
-      return static_cast<std::int64_t>(bits ^ sign) - static_cast<std::int64_t>(sign);
-    } else {
-      return static_cast<std::int64_t>(bits);
-    }
+    const std::uint64_t bits = static_cast<std::uint64_t>(v) & ((std::uint64_t{1} << W) - 1);
+    const std::uint64_t sign = Signed ? std::uint64_t{1} << (W - 1) : 0;
+    return static_cast<std::int64_t>(bits ^ sign) - static_cast<std::int64_t>(sign);
   }
   std::int64_t value_ = 0;
 };
@@ -87,4 +86,6 @@ constexpr long long to_s64(fixed_int<W, S> x) {
   return static_cast<std::int64_t>(x);
 }
 
-}  // namespace odoloc::hls::own
+}  // namespace own
+}  // namespace hls
+}  // namespace odoloc

@@ -8,6 +8,7 @@
 // One rule the kernels keep because the families differ there: a left shift
 // stays within its operand's width in ap_int and ac_int (it grows in the
 // own type), so a value is assigned to its wider type before shifting left.
+// C++14 throughout, the newest standard every HLS front end accepts.
 // The three give the same results on the kernels (test_hls_types, and the
 // export test builds every kernel with each). Bit access and the value as a
 // host integer go through bits<Hi, Lo>(x), bit(x, i) and to_s64(x), which each
@@ -15,7 +16,9 @@
 #pragma once
 
 #ifndef ODOLOC_HLS_TYPES
-#if __has_include(<ap_int.h>)
+#if defined(__INTELFPGA_COMPILER__)
+#define ODOLOC_HLS_TYPES 2
+#elif __has_include(<ap_int.h>)
 #define ODOLOC_HLS_TYPES 1
 #elif __has_include(<ac_int.h>)
 #define ODOLOC_HLS_TYPES 2
@@ -26,6 +29,8 @@
 
 #if ODOLOC_HLS_TYPES == 1
 #include <ap_int.h>
+#elif ODOLOC_HLS_TYPES == 2 && defined(__INTELFPGA_COMPILER__)
+#include "HLS/ac_int.h"
 #elif ODOLOC_HLS_TYPES == 2
 #include <ac_int.h>
 #elif ODOLOC_HLS_TYPES == 0
@@ -34,10 +39,20 @@
 #error "ODOLOC_HLS_TYPES must be 0 (own), 1 (ap_int.h) or 2 (ac_int.h)"
 #endif
 
-namespace odoloc::hls {
+// A top function is an Intel HLS `component`; Vitis HLS and Catapult take
+// theirs from the script (set_top) or a pragma (hls_design top).
+#if defined(__INTELFPGA_COMPILER__)
+#include "HLS/hls.h"
+#define ODOLOC_HLS_TOP component
+#else
+#define ODOLOC_HLS_TOP
+#endif
+
+namespace odoloc {
+namespace hls {
 
 #if ODOLOC_HLS_TYPES == 1
-inline constexpr const char* kTypeFamily = "ap_int.h";
+constexpr const char* kTypeFamily = "ap_int.h";
 template <int W>
 using uint = ap_uint<W>;
 template <int W>
@@ -55,7 +70,7 @@ inline long long to_s64(const ap_int_base<W, S>& x) {
   return x.to_int64();
 }
 #elif ODOLOC_HLS_TYPES == 2
-inline constexpr const char* kTypeFamily = "ac_int.h";
+constexpr const char* kTypeFamily = "ac_int.h";
 template <int W>
 using uint = ac_int<W, false>;
 template <int W>
@@ -73,7 +88,7 @@ inline long long to_s64(const ac_int<W, S>& x) {
   return x.to_int64();
 }
 #else
-inline constexpr const char* kTypeFamily = "own_int.hpp";
+constexpr const char* kTypeFamily = "own_int.hpp";
 template <int W>
 using uint = own::uint<W>;
 template <int W>
@@ -83,4 +98,5 @@ using own::bits;
 using own::to_s64;
 #endif
 
-}  // namespace odoloc::hls
+}  // namespace hls
+}  // namespace odoloc

@@ -1,7 +1,8 @@
-// Rotation-mode CORDIC arithmetic for sin/cos: parameters, the arctangent
-// table, the gain constant and the per-stage datapath, all in one place.
-// Header-only, constexpr, no containers, no heap: the sequential RTL model
-// (cordic.hpp) and the HLS sources use exactly these functions.
+// Rotation-mode CORDIC arithmetic for sin/cos: the per-stage datapath in the
+// model's types, over the parameters and tables of cordic_constants.hpp.
+// Header-only, constexpr, no containers, no heap. The sequential RTL model
+// (cordic.hpp) runs these functions; the HLS kernel shares the constants and
+// is proven bit-identical to them (test_hls_cordic_*).
 //
 // Formats (docs/cordic.md):
 //   angle in:  UInt<16> binary angle, 65536 = one turn
@@ -16,88 +17,18 @@
 #pragma once
 
 #include <cstdint>
-#include <numbers>
 
 #include "odoloc/rtl/bits.hpp"
+#include "odoloc/rtl/cordic_constants.hpp"
 
 namespace odoloc::rtl::cordic {
-
-inline constexpr int kIterations = 16;
-inline constexpr int kFirstShift = 1;
-inline constexpr int kAngleBits = 16;
-inline constexpr int kAngleGuardBits = 6;
-inline constexpr int kOutputFractionBits = 14;
-inline constexpr int kGuardBits = 6;
-inline constexpr int kXyFractionBits = kOutputFractionBits + kGuardBits;
-inline constexpr int kZUnitsBits = kAngleBits + kAngleGuardBits;  // 2^22 units per turn
 
 using Angle = UInt<kAngleBits>;
 using Xy = SInt<kXyFractionBits + 2>;  // |x|, |y| <= 1 + rounding: sign, one integer bit
 using Z = SInt<kZUnitsBits - 1>;       // |z| <= 1/8 turn + atan(2^-1) < 2^20 units
 using Output = SInt<kOutputFractionBits + 2>;
 
-// ---- compile-time math (long double), so tables are generated, not typed ----
-constexpr long double kPi = std::numbers::pi_v<long double>;
-
-// atan(2^-i) by its Taylor series; 2^-i <= 1/2 converges to long double
-// precision in under 40 terms.
-constexpr long double atan_pow2(int i) {
-  if (i == 0)
-    return kPi / 4;
-  long double x = 1.0L;
-  for (int k = 0; k < i; ++k)
-    x /= 2;
-  const long double x2 = x * x;
-  long double term = x, sum = 0.0L;
-  for (int n = 0; n < 40; ++n) {
-    sum += ((n % 2 == 0) ? term : -term) / (2 * n + 1);
-    term *= x2;
-  }
-  return sum;
-}
-
-constexpr long double sqrt_newton(long double v) {
-  long double y = v > 1 ? v : 1.0L;
-  for (int k = 0; k < 60; ++k)
-    y = (y + v / y) / 2;
-  return y;
-}
-
-// Gain of micro-rotations with shifts first..first+count-1: prod sqrt(1 + 2^-2i).
-constexpr long double gain(int first, int count) {
-  long double product = 1.0L;
-  for (int i = first; i < first + count; ++i) {
-    long double t = 1.0L;
-    for (int k = 0; k < 2 * i; ++k)
-      t /= 2;
-    product *= 1.0L + t;
-  }
-  return sqrt_newton(product);
-}
-
-constexpr std::int64_t round_to_int(long double v) {
-  return static_cast<std::int64_t>(v < 0 ? v - 0.5L : v + 0.5L);
-}
-
-// The paper's constant: 1/A16 for shifts 0..15.
-inline constexpr long double kPaperInverseGain = 1.0L / gain(0, kIterations);
-// Ours: shifts 1..16; equals sqrt(2) * kPaperInverseGain up to the last term.
-inline constexpr long double kInverseGain = 1.0L / gain(kFirstShift, kIterations);
-// x0 = 1/A quantised to the x/y format (round to nearest).
-inline constexpr Xy kX0 = Xy::truncate(round_to_int(kInverseGain * (1LL << kXyFractionBits)));
-
-struct AtanTable {
-  std::int32_t units[kIterations];  // atan(2^-(kFirstShift + k)) in 2^-22 turns
-};
-constexpr AtanTable make_atan_table() {
-  AtanTable t{};
-  for (int k = 0; k < kIterations; ++k) {
-    const long double turns = atan_pow2(kFirstShift + k) / (2 * kPi);
-    t.units[k] = static_cast<std::int32_t>(round_to_int(turns * (1LL << kZUnitsBits)));
-  }
-  return t;
-}
-inline constexpr AtanTable kAtan = make_atan_table();
+inline constexpr Xy kX0 = Xy::truncate(kX0Units);
 
 // ---- the datapath -------------------------------------------------------
 struct State {

@@ -13,6 +13,7 @@
 #include <variant>
 #include <vector>
 
+#include "odoloc/cli/export_hls.hpp"
 #include "odoloc/cli/locate.hpp"
 #include "odoloc/cli/names.hpp"
 #include "odoloc/cli/target.hpp"
@@ -54,7 +55,7 @@ struct ScriptCommand {
   std::string file;  // "-": standard input
 };
 using Command = std::variant<ListCommand, ReadCommand, WriteCommand, DumpCommand, WatchCommand,
-                             WaitCommand, ScriptCommand, LocateCommand>;
+                             WaitCommand, ScriptCommand, LocateCommand, ExportHlsCommand>;
 
 // One command line (the words after "odoloc").
 struct Invocation {

@@ -1,0 +1,45 @@
+#include "odoloc/cli/export_hls.hpp"
+
+#include <fmt/format.h>
+
+#include <nlohmann/json.hpp>
+#include <ostream>
+
+#include "odoloc/cli/errors.hpp"
+#include "odoloc/hls_export/reference.hpp"
+
+namespace odoloc::cli {
+
+hls_export::HlsTool parse_hls_tool(const std::string& name) {
+  const auto tool = hls_export::parse_tool(name);
+  if (!tool)
+    throw UsageError(
+        fmt::format("export-hls: unknown --tool '{}'; expected vitis, catapult or intel", name));
+  return *tool;
+}
+
+void run_export_hls(const ExportHlsCommand& command, std::ostream& out, bool json) {
+  std::vector<hls_export::ExportedTree> trees;
+  try {
+    trees = hls_export::export_hls(command.request);
+  } catch (const hls_export::ExportError& e) {
+    if (e.usage())
+      throw UsageError(e.what());
+    throw FileError(e.what());
+  }
+  for (const hls_export::ExportedTree& tree : trees) {
+    if (json) {
+      out << nlohmann::json{{"kernel", tree.kernel},
+                            {"folder", tree.folder.string()},
+                            {"files", tree.files},
+                            {"golden_calls", tree.golden_calls}}
+                 .dump()
+          << '\n';
+    } else {
+      out << fmt::format("{}: {} ({}, {} golden calls)\n", tree.kernel, tree.folder.string(),
+                         fmt::join(tree.files, " "), tree.golden_calls);
+    }
+  }
+}
+
+}  // namespace odoloc::cli
