@@ -10,6 +10,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libyaml-cpp-dev nlohmann-json3-dev libfmt-dev
   libeigen3-dev  # the beacon solvers and the fusion filter
   clang libclang-rt-14-dev  # libFuzzer for the bounded fuzz runs (ctest label fuzz)
+  clang-tidy python3  # the HLS synthesizability lint, with clang (ctest label lint)
   gnuplot-nox  # the demo's trajectory plot
 )
 if [ "${1:-}" = "--tests" ]; then
