@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <bit>
 #include <fstream>
 #include <map>
@@ -13,6 +14,7 @@
 #include <sstream>
 #include <string>
 
+#include "odoloc/hls/regfile_map.hpp"
 #include "odoloc/ports.hpp"
 #include "odoloc/regmap/regmap.hpp"
 #include "odoloc/regs.hpp"
@@ -243,6 +245,56 @@ TEST(RegisterMap, CHeaderAgreesWithTheCppHeader) {
     EXPECT_EQ(odoloc_c_set_decode(0xFFFFFFFFU, v),
               regs::eppm::cfg::decode_mode.set(0xFFFFFFFFU, v));
   }
+}
+
+// The HLS kernels' C++14 map (odoloc/hls/regfile_map.hpp) holds the same
+// registers, masks, resets, FIFOs and SPI facts as odoloc/regs.hpp; its
+// hw_mask is every field the hardware drives.
+TEST(RegisterMap, HlsMapAgreesWithTheCppHeader) {
+  namespace hm = odoloc::hls::regfile_map;
+  ASSERT_EQ(static_cast<std::size_t>(hm::kRegisterCount), std::size(regs::kRegisters));
+  for (std::size_t i = 0; i < std::size(regs::kRegisters); ++i) {
+    const regs::Register& r = regs::kRegisters[i];
+    const hm::Register& h = hm::kRegisters[i];
+    std::uint32_t driven = 0;
+    for (const regs::Field& f : r.fields)
+      if (f.hw == regs::HwAccess::kW || f.hw == regs::HwAccess::kSet ||
+          f.hw == regs::HwAccess::kCount)
+        driven |= f.mask();
+    std::string name(r.path);
+    std::replace(name.begin(), name.end(), '.', '_');
+    EXPECT_EQ(h.address, r.address) << r.path;
+    EXPECT_EQ(h.reset, r.reset) << r.path;
+    EXPECT_EQ(h.rw_mask, r.rw_mask) << r.path;
+    EXPECT_EQ(h.w1c_mask, r.w1c_mask) << r.path;
+    EXPECT_EQ(h.w1p_mask, r.w1p_mask) << r.path;
+    EXPECT_EQ(h.const_mask, r.const_mask) << r.path;
+    EXPECT_EQ(h.hw_mask, driven) << r.path;
+    EXPECT_EQ(h.snapshot, r.snapshot) << r.path;
+    EXPECT_EQ(h.pop_window, r.pop_window) << r.path;
+    EXPECT_EQ(hm::kRegisterNames[i], name);
+  }
+  ASSERT_EQ(static_cast<std::size_t>(hm::kPopWindowCount), std::size(regs::kPopWindows));
+  for (std::size_t w = 0; w < std::size(regs::kPopWindows); ++w) {
+    const regs::PopWindow& r = regs::kPopWindows[w];
+    EXPECT_EQ(hm::kPopWindows[w].first, r.first);
+    EXPECT_EQ(hm::kPopWindows[w].entries, r.entries);
+    EXPECT_EQ(hm::kPopWindows[w].words, r.words);
+    std::string name(r.path);
+    std::replace(name.begin(), name.end(), '.', '_');
+    EXPECT_EQ(hm::kPopWindowNames[w], name);
+  }
+  EXPECT_EQ(hm::kAddressBits, static_cast<int>(regs::kAddressBits));
+  EXPECT_EQ(hm::spi::kMaxBurst, static_cast<int>(regs::spi::kMaxBurst));
+  EXPECT_EQ(hm::spi::kCrcPolynomial, regs::spi::kCrcPolynomial);
+  EXPECT_EQ(hm::spi::kCrcInit, regs::spi::kCrcInit);
+  EXPECT_EQ(hm::spi::kCrcXorOut, regs::spi::kCrcXorOut);
+  EXPECT_EQ(hm::eppm::speed::address(3), regs::eppm::speed::address(3));
+  EXPECT_EQ(hm::tof_channel::entry::address(2, 5), regs::tof_channel::entry::address(2, 5));
+  EXPECT_EQ(hm::odometry::command::kAddress, regs::odometry::command::kAddress);
+  EXPECT_EQ(hm::odometry::cfg::kReset, regs::odometry::cfg::kReset);
+  EXPECT_EQ(hm::eppm::speed::mode.mask(), regs::eppm::speed::mode.mask());
+  EXPECT_EQ(hm::odometry::cfg::select_shift.reset, regs::odometry::cfg::select_shift.reset);
 }
 
 TEST(RegisterMap, FieldHelpersAreMaskBased) {

@@ -4,8 +4,9 @@
 // ("# expect: accept" or "# expect: reject: <text> && <text>"); every
 // accepted map's outputs are compiled: the C header as C99 (host compiler,
 // avr-gcc, arm-none-eabi-gcc when installed), regs.hpp and ports.hpp as
-// C++20, the SystemRDL through ../shared/tools/rdl-check (skipped when it
-// exits 77), and the Markdown must have one row per field.
+// C++20, the HLS kernels' regfile_map.hpp as ISO C++14, the SystemRDL through
+// ../shared/tools/rdl-check (skipped when it exits 77), and the Markdown must have one row per
+// field.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -126,6 +127,7 @@ void check_outputs(const std::string& name, const rm::RegisterMap& map) {
   const fs::path inc = dir.path / "include";
   write_file(inc / "odoloc/regs.hpp", rm::emit_cpp(map));
   write_file(inc / "odoloc/ports.hpp", rm::emit_ports(map));
+  write_file(inc / "odoloc/hls/regfile_map.hpp", rm::emit_hls(map));
   write_file(inc / "odoloc_regs.h", rm::emit_c(map));
   write_file(dir.path / "map.rdl", rm::emit_systemrdl(map));
   const std::string md = rm::emit_markdown(map);
@@ -176,6 +178,23 @@ void check_outputs(const std::string& name, const rm::RegisterMap& map) {
           "-fsyntax-only -I" +
           quote(inc) + " -I" + quote(ODOLOC_RTL_INCLUDE) + " " + quote(dir.path / "use.cpp"));
   EXPECT_EQ(cpp.exit_status, 0) << cpp.message;
+
+  // The HLS kernels' map: ISO C++14, every table read.
+  write_file(dir.path / "use_hls.cpp",
+             "#include \"odoloc/hls/regfile_map.hpp\"\n"
+             "namespace m = odoloc::hls::regfile_map;\n"
+             "int main() {\n  unsigned n = 0;\n"
+             "  for (int i = 0; i < m::kRegisterCount; ++i)\n"
+             "    n += m::kRegisters[i].rw_mask + (m::kRegisterNames[i][0] != '\\0' ? 1U : 0U);\n"
+             "  for (int w = 0; w < m::kPopWindowCount; ++w)\n"
+             "    n += static_cast<unsigned>(m::kPopWindows[w].first) +\n"
+             "         (m::kPopWindowNames[w][0] != '\\0' ? 1U : 0U);\n"
+             "  return static_cast<int>(n & 1U);\n}\n");
+  const auto hls = run(std::string(ODOLOC_CXX) +
+                       " -std=c++14 -pedantic-errors -Wall -Wextra -Wshadow -Wconversion "
+                       "-Wold-style-cast -Werror -fsyntax-only -I" +
+                       quote(inc) + " " + quote(dir.path / "use_hls.cpp"));
+  EXPECT_EQ(hls.exit_status, 0) << hls.message;
 
   // SystemRDL: the real compiler and exporter.
   if (fs::exists(ODOLOC_RDL_CHECK)) {

@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <array>
 #include <fstream>
+#include <optional>
 #include <random>
-#include <regex>
 #include <set>
 #include <sstream>
 #include <system_error>
@@ -41,8 +41,36 @@ std::string_view source(std::string_view key) {
 }
 
 // `#include "odoloc/..."`: the project's; anything else stays as written.
-const std::regex kProjectInclude{R"(^\s*#\s*include\s*"(odoloc/[^"]+)\")"};
-const std::regex kPragmaOnce{R"(^\s*#\s*pragma\s+once\s*$)"};
+// The preprocessor directive of a line ("include \"x\"", "pragma once"),
+// spaces after '#' removed; empty when the line is not a directive.
+std::string directive(std::string_view line) {
+  const auto hash = line.find_first_not_of(" \t");
+  if (hash == std::string_view::npos || line[hash] != '#')
+    return {};
+  line.remove_prefix(hash + 1);
+  const auto start = line.find_first_not_of(" \t");
+  return start == std::string_view::npos ? std::string{} : std::string(line.substr(start));
+}
+
+// `#include "odoloc/..."`: the header named, for the project's includes;
+// nullopt for anything else, which stays as written.
+std::optional<std::string> project_include(std::string_view line) {
+  const std::string d = directive(line);
+  if (!d.starts_with("include"))
+    return std::nullopt;
+  const auto open = d.find('"');
+  const auto close = open == std::string::npos ? open : d.find('"', open + 1);
+  if (close == std::string::npos || d.compare(open + 1, 7, "odoloc/") != 0)
+    return std::nullopt;
+  return d.substr(open + 1, close - open - 1);
+}
+
+bool is_pragma_once(std::string_view line) {
+  std::istringstream words(directive(line));
+  std::string pragma, once, rest;
+  words >> pragma >> once >> rest;
+  return pragma == "pragma" && once == "once" && rest.empty();
+}
 
 void flatten_into(std::string_view key, std::set<std::string, std::less<>>& done,
                   std::string& out) {
@@ -50,12 +78,11 @@ void flatten_into(std::string_view key, std::set<std::string, std::less<>>& done
   std::istringstream lines{std::string(source(key))};
   out += fmt::format("// ---- {} ----\n", key);
   for (std::string line; std::getline(lines, line);) {
-    std::smatch match;
-    if (std::regex_search(line, kPragmaOnce))
+    if (is_pragma_once(line))
       continue;
-    if (std::regex_search(line, match, kProjectInclude)) {
-      if (!done.contains(match[1].str()))
-        flatten_into(match[1].str(), done, out);
+    if (const auto header = project_include(line)) {
+      if (!done.contains(*header))
+        flatten_into(*header, done, out);
       continue;
     }
     out += line;
@@ -85,8 +112,10 @@ std::string kernel_source(const KernelDescription& kernel) {
   if (at == std::string::npos)
     file_error(fmt::format("export-hls: {} does not include {}", kernel.top_source, kernel.header));
   text.replace(at, own.size(), "#include \"kernel.h\"");
-  if (std::regex_search(text, kProjectInclude))
-    file_error(fmt::format("export-hls: {} includes another odoloc header", kernel.top_source));
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);)
+    if (project_include(line))
+      file_error(fmt::format("export-hls: {} includes another odoloc header", kernel.top_source));
   return banner(kernel, "kernel.cpp") + text;
 }
 

@@ -16,6 +16,7 @@
 #include "odoloc/ports.hpp"
 #include "odoloc/rtl/bits.hpp"
 #include "odoloc/rtl/clocked.hpp"
+#include "odoloc/rtl/eppm_constants.hpp"
 #include "odoloc/rtl/input_conditioner.hpp"
 
 namespace odoloc::rtl {
@@ -513,5 +514,33 @@ class Eppm {
   PulseMeter pulse_;
   PeriodMeter period_;
 };
+
+// The constants the HLS kernel shares (eppm_constants.hpp) are the model's
+// register widths and the register map's encodings.
+static_assert(decltype(QuadratureConditioner::Regs{}.sync1)::width == eppm::kLines &&
+              decltype(EppmConfig{}.cfg.filter_clocks)::width == eppm::kFilterBits &&
+              decltype(QuadratureConditioner::Regs{}.stable)::value_type::width ==
+                  eppm::kFilterBits &&
+              decltype(QuadratureDecoderRegs{}.error_count)::width == eppm::kErrorCountBits &&
+              PositionCount::width == eppm::kCountBits &&
+              decltype(EppmConfig{}.window.clocks)::width == eppm::kWindowBits &&
+              decltype(SpeedTimebaseRegs{}.window_count)::width == eppm::kWindowBits &&
+              decltype(EppmConfig{}.prescale.divider)::width == eppm::kPrescaleBits &&
+              decltype(SpeedTimebaseRegs{}.prescale_count)::width == eppm::kPrescaleBits &&
+              decltype(PulseMeterRegs{}.acc)::width == eppm::kPulseBits &&
+              decltype(EppmStatus{}.speed.value)::width == eppm::kPulseBits &&
+              PeriodTicks::width == eppm::kPeriodBits &&
+              decltype(EppmConfig{}.stall_ticks.ticks)::width == eppm::kPeriodBits &&
+              decltype(EppmConfig{}.to_period_below.edges)::width == eppm::kPeriodBits &&
+              decltype(EppmConfig{}.to_pulse_at.edges)::width == eppm::kPeriodBits &&
+              decltype(EppmConfig{}.cfg.decode_mode)::width == eppm::kModeBits &&
+              decltype(EppmConfig{}.cfg.speed_mode_select)::width == eppm::kModeBits);
+static_assert(eppm::kDecodeX4 == encoding(DecodeMode::kX4) &&
+              eppm::kDecodeX2 == encoding(DecodeMode::kX2) &&
+              eppm::kDecodeX1 == encoding(DecodeMode::kX1) &&
+              eppm::kSelectPulse == encoding(SpeedModeSelect::kPulse) &&
+              eppm::kSelectPeriod == encoding(SpeedModeSelect::kPeriod) &&
+              eppm::kModePeriod == encoding(SpeedMode::kPeriod) &&
+              eppm::kModePulse == encoding(SpeedMode::kPulse));
 
 }  // namespace odoloc::rtl

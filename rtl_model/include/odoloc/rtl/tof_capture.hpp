@@ -23,12 +23,19 @@
 #include "odoloc/rtl/bits.hpp"
 #include "odoloc/rtl/clocked.hpp"
 #include "odoloc/rtl/input_conditioner.hpp"
+#include "odoloc/rtl/tof_constants.hpp"
 
 namespace odoloc::rtl {
 
 // ---- ports (generated from regmap/odoloc.yaml: odoloc/ports.hpp) -------------
 using TofMode = regs::tof_channel::cfg::Mode;
 inline constexpr std::size_t kTofChannelInstances = regs::tof_channel::kInstances;
+// The constants the HLS kernel shares (tof_constants.hpp) are the register map's.
+static_assert(tof_capture::kChannels == kTofChannelInstances &&
+              tof_capture::kWindow ==
+                  std::tuple_size<decltype(ports::tof_channel::Status::entry)>::value &&
+              tof_capture::kModeEnvelope == encoding(TofMode::kEnvelope) &&
+              tof_capture::kModeCarrier == encoding(TofMode::kCarrier));
 
 // ---- timebase -----------------------------------------------------------------
 // One tick every prescale+1 clocks; the timestamp counts ticks and wraps at
@@ -44,7 +51,7 @@ struct TofTimebaseRegs {
 
 class TofTimebase : public Registers<TofTimebaseRegs> {
  public:
-  static constexpr int kEpochBits = 23;
+  static constexpr int kEpochBits = tof_capture::kEpochBits;
   struct In {
     UInt<16> prescale;
     UInt<1> reset;
@@ -156,6 +163,21 @@ struct TofChannelRegs {
   bool operator==(const TofChannelRegs&) const = default;
   ODOLOC_FIELDS(level, armed, done, in_progress, epochs, rise, edges, ignored, fifo)
 };
+// The register widths the HLS kernel mirrors by name (tof_constants.hpp).
+static_assert(
+    decltype(TofEvent::ticks)::width == tof_capture::kTimestampBits &&
+    decltype(TofEvent::width)::width == tof_capture::kWidthBits &&
+    decltype(TofEvent::edge)::width == tof_capture::kEdgeIndexBits &&
+    decltype(TofChannelRegs<8>::epochs)::width == tof_capture::kEpochCountBits &&
+    decltype(TofChannelRegs<8>::edges)::width == tof_capture::kEdgeCountBits &&
+    decltype(TofChannelRegs<8>::ignored)::width == tof_capture::kCounterBits &&
+    decltype(CaptureFifo<TofEvent, 8>::head)::width == tof_capture::kHeadBits &&
+    decltype(CaptureFifo<TofEvent, 8>::level)::width == tof_capture::kLevelBits &&
+    decltype(CaptureFifo<TofEvent, 8>::dropped)::width == tof_capture::kCounterBits &&
+    decltype(TofTimebaseRegs::prescale_count)::width == tof_capture::kPrescaleBits &&
+    decltype(ports::tof_channel::Pulses::EntryReg::pops)::width == tof_capture::kPopBits &&
+    decltype(ports::tof::Config::CfgReg::filter_clocks)::width == tof_capture::kFilterBits &&
+    decltype(InputConditionerRegs<1>::stable)::value_type::width == tof_capture::kFilterBits);
 
 template <std::size_t Depth>
 class TofChannel : public Registers<TofChannelRegs<Depth>> {
@@ -326,7 +348,7 @@ struct TofCaptureInputs {
   ODOLOC_FIELDS(comparators, sync, tof, channel, snapshot, clear_all, reset)
 };
 
-template <std::size_t Channels = kTofChannelInstances, std::size_t Depth = 16>
+template <std::size_t Channels = kTofChannelInstances, std::size_t Depth = tof_capture::kDepth>
 class TofCapture {
   static_assert(Channels >= 1 && Channels <= kTofChannelInstances);
   static constexpr int kLines = static_cast<int>(Channels) + 1;  // the sync input is the top line

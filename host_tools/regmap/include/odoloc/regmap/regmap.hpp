@@ -163,6 +163,9 @@ std::vector<PopWindow> pop_windows(const RegisterMap& map);
 std::string emit_cpp(const RegisterMap& map);
 // odoloc/ports.hpp: typed register <-> hardware port structs, decode/encode.
 std::string emit_ports(const RegisterMap& map);
+// odoloc/hls/regfile_map.hpp: the same facts as emit_cpp in plain C++14, for the
+// HLS kernels (constexpr integers and tables).
+std::string emit_hls(const RegisterMap& map);
 std::string emit_c(const RegisterMap& map);
 std::string emit_systemrdl(const RegisterMap& map);
 std::string emit_markdown(const RegisterMap& map);
