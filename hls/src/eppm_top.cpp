@@ -16,6 +16,6 @@ ODOLOC_HLS_TOP void odoloc_eppm(const odoloc::hls::eppm::Inputs& in,
 #pragma HLS disaggregate variable = out
 #pragma HLS pipeline II = 1
   static odoloc::hls::eppm::Registers regs;
-#pragma HLS array_partition variable = regs.conditioner.stable complete
+#pragma HLS array_partition variable = regs.conditioner.line complete
   odoloc::hls::eppm::step(regs, in, out);
 }

@@ -20,7 +20,7 @@ ODOLOC_HLS_TOP void odoloc_tof(const odoloc::hls::tof::Inputs& in, odoloc::hls::
 #pragma HLS array_partition variable = out.rx complete dim = 0
 #pragma HLS pipeline II = 1
   static odoloc::hls::tof::Registers regs;
-#pragma HLS array_partition variable = regs.line complete
+#pragma HLS array_partition variable = regs.conditioner.line complete
 #pragma HLS array_partition variable = regs.sync_fifo.slots complete
 #pragma HLS array_partition variable = regs.rx complete dim = 0
   odoloc::hls::tof::step(regs, in, out);

@@ -112,8 +112,8 @@ void walk(K& k, M& m, F&& f) {
   f("conditioner.sync1", k.conditioner.sync1, m.conditioner.sync1);
   f("conditioner.sync2", k.conditioner.sync2, m.conditioner.sync2);
   f("conditioner.filtered", k.conditioner.filtered, m.conditioner.filtered);
-  f("conditioner.stable[0]", k.conditioner.stable[0], m.conditioner.stable[0]);
-  f("conditioner.stable[1]", k.conditioner.stable[1], m.conditioner.stable[1]);
+  f("conditioner.stable[0]", k.conditioner.line[0].stable, m.conditioner.stable[0]);
+  f("conditioner.stable[1]", k.conditioner.line[1].stable, m.conditioner.stable[1]);
   f("decoder.prev", k.decoder.prev, m.decoder.prev);
   f("decoder.direction", k.decoder.direction, m.decoder.direction);
   f("decoder.phase_error", k.decoder.phase_error, m.decoder.phase_error);

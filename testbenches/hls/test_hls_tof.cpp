@@ -144,11 +144,11 @@ void walk_fifo(int index, KernelFifo& k, ModelFifo& m, F& f) {
 // (the sync FIFO's index is -1).
 template <class F>
 void walk(ht::Registers& k, ModelRegs& m, F&& f) {
-  f(Where{"sync1"}, k.sync1, m.conditioner.sync1);
-  f(Where{"sync2"}, k.sync2, m.conditioner.sync2);
-  f(Where{"filtered"}, k.filtered, m.conditioner.filtered);
+  f(Where{"sync1"}, k.conditioner.sync1, m.conditioner.sync1);
+  f(Where{"sync2"}, k.conditioner.sync2, m.conditioner.sync2);
+  f(Where{"filtered"}, k.conditioner.filtered, m.conditioner.filtered);
   for (std::size_t l = 0; l < kChannels + 1; ++l)
-    f(Where{"stable", static_cast<int>(l)}, k.line[l].stable, m.conditioner.stable[l]);
+    f(Where{"stable", static_cast<int>(l)}, k.conditioner.line[l].stable, m.conditioner.stable[l]);
   f(Where{"prescale_count"}, k.prescale_count, m.timebase.prescale_count);
   f(Where{"timestamp"}, k.timestamp, m.timebase.timestamp);
   f(Where{"sync.level"}, k.sync_level, m.sync.level);

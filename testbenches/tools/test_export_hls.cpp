@@ -6,6 +6,7 @@
 // message and leaves the file system as it was.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -24,8 +25,19 @@ namespace fs = std::filesystem;
 using odoloc::process::run_program;
 using odoloc::process::run_shell;
 
+// Per process (builds in other folders may run this test at the same time),
+// removed when the tests end.
+fs::path scratch() {
+  return fs::path(::testing::TempDir()) / fmt::format("odoloc_export_{}", ::getpid());
+}
+class RemoveScratch : public ::testing::Environment {
+ public:
+  void TearDown() override { fs::remove_all(scratch()); }
+};
+const auto* const kRemoveScratch = ::testing::AddGlobalTestEnvironment(new RemoveScratch);
+
 fs::path fresh_folder(const std::string& name) {
-  const fs::path folder = fs::path(::testing::TempDir()) / ("odoloc_export_" + name);
+  const fs::path folder = scratch() / name;
   fs::remove_all(folder);
   fs::create_directories(folder);
   return folder;

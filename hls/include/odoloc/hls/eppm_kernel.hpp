@@ -59,6 +59,7 @@
 // bounds.
 #pragma once
 
+#include "odoloc/hls/input_conditioner.hpp"
 #include "odoloc/hls/types.hpp"
 #include "odoloc/rtl/eppm_constants.hpp"
 
@@ -119,11 +120,8 @@ struct Outputs {
 };
 
 // The model's blocks, register for register (rtl::<Block>Regs).
-struct Conditioner {  // rtl::InputConditionerRegs<2>
-  Lines sync1 = 0, sync2 = 0, filtered = 0;
-  Filter stable[ec::kLines] = {0, 0};  // per line: consecutive samples differing from filtered
-};
-struct Decoder {  // rtl::QuadratureDecoderRegs
+using Conditioner = InputConditioner<ec::kLines, ec::kFilterBits>;  // rtl::InputConditionerRegs<2>
+struct Decoder {                                                    // rtl::QuadratureDecoderRegs
   Lines prev = 0;
   uint<1> direction = 0, phase_error = 0;
   ErrorCount error_count = 0;
@@ -262,36 +260,6 @@ inline Wires wires(const Registers& r, const Inputs& in) {
   w.window_end = next_window >= in.window_clocks;
   w.tick = r.timebase.prescale_count >= in.prescale_divider;
   return w;
-}
-
-// Two synchroniser flops, then per line: a sample equal to the filtered level
-// restarts the count, the N-th consecutive differing one (N <= 1: the first)
-// is taken.
-inline void condition(Conditioner& n, const Conditioner& r, const Inputs& in) {
-  n.sync1 = pins(in);
-  n.sync2 = r.sync1;
-  Lines filtered = 0;
-line_loop:
-  for (int l = 0; l < ec::kLines; ++l) {
-#pragma HLS unroll
-    const bool sample = bit(r.sync2, l);
-    bool level = bit(r.filtered, l);
-    if (sample == level) {
-      n.stable[l] = 0;
-    } else {
-      const uint<ec::kFilterBits + 1> seen = r.stable[l] + 1;
-      if (seen >= in.filter_clocks) {
-        level = sample;
-        n.stable[l] = 0;
-      } else {
-        n.stable[l] = seen;  // seen < N <= 255
-      }
-    }
-    const Lines one = 1;
-    if (level)
-      filtered = filtered | (one << l);
-  }
-  n.filtered = filtered;
 }
 
 // The decoder compares the filtered level with its value one clock earlier.
@@ -453,12 +421,12 @@ inline void step(Registers& regs, const Inputs& in, Outputs& out) {
 #pragma HLS inline
   const Registers r = regs;
   Registers n = r;
-#pragma HLS array_partition variable = n.conditioner.stable complete
+#pragma HLS array_partition variable = n.conditioner.line complete
   if (in.reset == 1) {
     n = Registers();
   } else {
     const Wires w = wires(r, in);
-    condition(n.conditioner, r.conditioner, in);
+    condition(n.conditioner, r.conditioner, pins(in), in.filter_clocks);
     clock_decoder(n.decoder, r.conditioner.filtered, w.decoded, in);
     clock_counter(n.counter, r.counter, w.decoded.step, in);
     clock_timebase(n.timebase, r.timebase, w);

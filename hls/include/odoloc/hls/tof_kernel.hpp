@@ -53,6 +53,7 @@
 // containers, no floating point, static loop bounds.
 #pragma once
 
+#include "odoloc/hls/input_conditioner.hpp"
 #include "odoloc/hls/types.hpp"
 #include "odoloc/rtl/tof_constants.hpp"
 
@@ -165,13 +166,9 @@ struct Channel {  // rtl::TofChannelRegs<kDepth>
   Count ignored = 0;
   Fifo<Event> fifo;
 };
-struct Line {  // one line of rtl::InputConditioner
-  uint<tc::kFilterBits> stable = 0;
-};
 
 struct Registers {
-  Lines sync1 = 0, sync2 = 0, filtered = 0;  // the conditioner
-  Line line[kLines];
+  InputConditioner<kLines, tc::kFilterBits> conditioner;
   uint<tc::kPrescaleBits> prescale_count = 0;  // the timebase
   Timestamp timestamp = 0;
   uint<1> sync_level = 0;  // the sync input
@@ -390,41 +387,10 @@ inline bool tick(const Registers& r, const Inputs& in) {
 inline Wires wires(const Registers& r, const Inputs& in) {
   const Timestamp next = r.timestamp + 1;
   Wires w;
-  w.filtered = r.filtered;
+  w.filtered = r.conditioner.filtered;
   w.timestamp = r.timestamp;
   w.epoch = tick(r, in) && bits<tc::kEpochBits - 1, 0>(next) == 0;
   return w;
-}
-
-// Two synchroniser flops, then per line: a sample equal to the filtered level
-// restarts the count, the N-th consecutive differing one (N <= 1: the first)
-// is taken.
-inline void condition(Registers& n, const Registers& r, const Inputs& in) {
-  const Lines sync = in.sync;  // widened before the shift
-  n.sync1 = (sync << kChannels) | in.comparators;
-  n.sync2 = r.sync1;
-  Lines filtered = 0;
-line_loop:
-  for (int l = 0; l < kLines; ++l) {
-#pragma HLS unroll
-    const bool sample = bit(r.sync2, l);
-    bool level = bit(r.filtered, l);
-    if (sample == level) {
-      n.line[l].stable = 0;
-    } else {
-      const uint<tc::kFilterBits + 1> seen = r.line[l].stable + 1;
-      if (seen >= in.filter_clocks) {
-        level = sample;
-        n.line[l].stable = 0;
-      } else {
-        n.line[l].stable = seen;  // seen < N <= 255
-      }
-    }
-    const Lines one = 1;
-    if (level)
-      filtered = filtered | (one << l);
-  }
-  n.filtered = filtered;
 }
 
 inline void count_time(Registers& n, const Registers& r, const Inputs& in) {
@@ -576,14 +542,15 @@ inline void step(Registers& regs, const Inputs& in, Outputs& out) {
 #pragma HLS inline
   const Registers& r = regs;
   Registers n = r;
-#pragma HLS array_partition variable = n.line complete
+#pragma HLS array_partition variable = n.conditioner.line complete
 #pragma HLS array_partition variable = n.sync_fifo.slots complete
 #pragma HLS array_partition variable = n.rx complete dim = 0
   if (in.reset == 1) {
     n = Registers();
   } else {
     const Wires w = wires(r, in);
-    condition(n, r, in);
+    const Lines sync = in.sync;  // widened before the shift
+    condition(n.conditioner, r.conditioner, (sync << kChannels) | in.comparators, in.filter_clocks);
     count_time(n, r, in);
     clock_sync(n, r, w, in);
   channel_loop:
