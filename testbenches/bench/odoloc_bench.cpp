@@ -139,6 +139,27 @@ void BM_OdolocChip_CycleStep_BeaconCycle(benchmark::State& state) {
 }
 BENCHMARK(BM_OdolocChip_CycleStep_BeaconCycle);
 
+// Fast-forward (OdolocChip::advance) with the pins held: the chip skips
+// analytically between its own events (EPPM windows, odometry updates every
+// 100 us, timestamp epochs), and the SoC reads 8 EPPM words every 100 ms
+// over SPI. items/s are effective fabric clocks per second (compare with
+// BM_OdolocChip_CycleStep; `skipped` is the share not stepped).
+void BM_OdolocChip_FastForward_EncodersStill(benchmark::State& state) {
+  odoloc::board::ChipLink link({.half_period = 4});
+  odoloc::sw::SpiRegisterBus bus(link, {.crc = false, .confirm_writes = false});
+  std::array<std::uint32_t, 8> words{};
+  constexpr std::uint64_t kReadPeriodClocks = 5'000'000;  // 100 ms
+  for (auto _ : state) {
+    link.advance(kReadPeriodClocks);
+    bus.read(odoloc::regs::eppm::kBase, words);
+    benchmark::DoNotOptimize(words);
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(link.clocks()));
+  state.counters["skipped"] =
+      static_cast<double>(link.skipped_clocks()) / static_cast<double>(link.clocks());
+}
+BENCHMARK(BM_OdolocChip_FastForward_EncodersStill);
+
 // Register reads through the sim target: SoC bus -> frame codec -> pin-level
 // master -> chip, 32-word bursts at the fastest legal SCLK (6.25 MHz).
 void BM_SimBus_Read32Words(benchmark::State& state) {

@@ -19,6 +19,7 @@
 #include "odoloc/regs.hpp"
 #include "odoloc/rtl/odoloc_chip.hpp"
 #include "odoloc/world/quadrature_source.hpp"
+#include "random_frames.hpp"
 #include "register_dump.hpp"
 #include "spi_master_bfm.hpp"
 
@@ -28,7 +29,6 @@ using odoloc::rtl::ChipPins;
 using odoloc::rtl::Gating;
 using odoloc::rtl::OdolocChip;
 using odoloc::rtl::UInt;
-namespace regs = odoloc::regs;
 
 // Clocks the children in a random permutation, drawn anew at every call.
 struct ShuffledOrder {
@@ -53,50 +53,6 @@ struct ReverseOrder {
       c();
   }
 };
-
-// A random well-formed frame: a write of rw, w1c or w1p registers, or a read.
-std::vector<std::uint8_t> random_frame(std::mt19937_64& rng) {
-  std::vector<std::uint32_t> words;
-  unsigned address = 0;
-  switch (rng() % 6) {
-    case 0: {  // odometry configuration: short periods so updates happen often
-      address = regs::odometry::cfg::kAddress;
-      std::uint32_t cfg =
-          regs::odometry::cfg::update_clocks.set(0, static_cast<std::uint32_t>(60 + rng() % 200));
-      cfg = regs::odometry::cfg::policy.set(cfg, static_cast<std::uint32_t>(rng() % 4));
-      cfg = regs::odometry::cfg::select_shift.set(cfg, static_cast<std::uint32_t>(rng() % 6));
-      words = {cfg};
-      for (int k = 0; k < 8; ++k)  // scales, steering limit and thresholds
-        words.push_back(static_cast<std::uint32_t>(rng() >> 34));
-      break;
-    }
-    case 1:  // w1c clears anywhere, or the commands
-      address = rng() % 2 ? regs::odometry::command::kAddress
-                          : regs::eppm::status::address(static_cast<unsigned>(rng() % 4));
-      words = {static_cast<std::uint32_t>(rng() % 16)};
-      break;
-    case 2: {  // an EPPM's configuration
-      const auto i = static_cast<unsigned>(rng() % regs::eppm::kInstances);
-      address = regs::eppm::cfg::address(i);
-      words = {
-          static_cast<std::uint32_t>(rng() % 4096),    static_cast<std::uint32_t>(rng() % 3000),
-          static_cast<std::uint32_t>(rng() % 100),     static_cast<std::uint32_t>(rng() % 50),
-          static_cast<std::uint32_t>(50 + rng() % 50), static_cast<std::uint32_t>(rng() % 5000)};
-      break;
-    }
-    case 3:  // the pose to set
-      address = regs::odometry::set_x_lo::kAddress;
-      for (int k = 0; k < 6; ++k)
-        words.push_back(static_cast<std::uint32_t>(rng()));
-      break;
-    default: {  // a read of a random range (snapshot, live, rc)
-      address = static_cast<unsigned>(rng() % 0x90);
-      words.assign(1 + rng() % 8, 0);
-      return odoloc::tb::spi_frame(odoloc::tb::SpiOp::kRead, address, words, false);
-    }
-  }
-  return odoloc::tb::spi_frame(odoloc::tb::SpiOp::kWrite, address, words, false);
-}
 
 TEST(CommitOrder, EveryPermutationOfEveryCompositeGivesTheSameRegisters) {
   std::mt19937_64 rng(8);
@@ -134,7 +90,7 @@ TEST(CommitOrder, EveryPermutationOfEveryCompositeGivesTheSameRegisters) {
   };
   std::uint64_t last = 0;
   while (clock < 400'000 && !HasFailure()) {
-    master.transfer(random_frame(rng), step);
+    master.transfer(odoloc::tb::random_frame(rng), step);
     const std::uint64_t now = reference.fabric().sequencer().updates.value();
     updates += now > last ? now - last : 0;
     last = now;

@@ -23,6 +23,7 @@
 #pragma once
 
 #include <concepts>
+#include <cstdint>
 #include <string_view>
 
 #include "odoloc/regs.hpp"
@@ -96,6 +97,65 @@ template <Gating G = Gating::kOn, ClockedBlock B>
   if (G == Gating::kOn && block.idle(in))
     return;
   block.commit(block.eval(in));
+}
+
+// ---- fast-forward ------------------------------------------------------------
+// Between input events most of the fabric only counts. A block that can jump
+// ahead offers
+//   - `std::uint64_t clocks_until_event(const In&[, cfg]) const`: how many of
+//     the next clocks, with `in` held, it can skip (0: step this clock);
+//     kNoEvent when nothing happens on its own,
+//   - `void skip(std::uint64_t n, const In&[, cfg])`: exactly n steps with
+//     `in` held, for n <= clocks_until_event(in); bit-identical to stepping
+//     (testbenches/rtl/test_fast_forward.cpp, with a mutant of every rule).
+inline constexpr std::uint64_t kNoEvent = ~std::uint64_t{0};
+
+// A counter that restarts after its terminal clock: in a clock with
+// count >= last it fires and restarts at 0, otherwise it counts up (the
+// EPPM's window timer and reference prescaler, the TOF timestamp prescaler,
+// the odometry period counter; last = its period - 1).
+struct RestartingCount {
+  std::uint64_t fires;  // terminal clocks among the n
+  std::uint64_t count;  // the count after them
+};
+// Clocks before the next terminal clock (0: this clock fires).
+constexpr std::uint64_t clocks_to_fire(std::uint64_t count, std::uint64_t last) {
+  return count >= last ? 0 : last - count;
+}
+// The count after n clocks: the first fire at clock clocks_to_fire, then one
+// every last + 1 clocks.
+constexpr RestartingCount run_restarting(std::uint64_t count, std::uint64_t last, std::uint64_t n) {
+  const std::uint64_t first = clocks_to_fire(count, last);
+  if (n <= first)
+    return {0, count + n};
+  const std::uint64_t after = n - 1 - first;  // clocks after the first fire
+  return {1 + after / (last + 1), after % (last + 1)};
+}
+// The clock (from now) of the k-th fire, k >= 1.
+constexpr std::uint64_t clock_of_fire(std::uint64_t count, std::uint64_t last, std::uint64_t k) {
+  return clocks_to_fire(count, last) + (k - 1) * (last + 1);
+}
+
+// n clocks with `in` held: skipped up to each event, stepped through it.
+// Bit-identical to n calls of block.step(in, config...). Returns how many of
+// the n were skipped.
+template <class Block, class... Config>
+std::uint64_t fast_forward(Block& block, std::uint64_t n, const typename Block::In& in,
+                           const Config&... config) {
+  std::uint64_t skipped = 0;
+  while (n != 0) {
+    const std::uint64_t quiet = block.clocks_until_event(in, config...);
+    if (quiet == 0) {
+      block.step(in, config...);
+      --n;
+    } else {
+      const std::uint64_t clocks = quiet < n ? quiet : n;
+      block.skip(clocks, in, config...);
+      n -= clocks;
+      skipped += clocks;
+    }
+  }
+  return skipped;
 }
 
 // The order a composite clocks its children in, given one callable per

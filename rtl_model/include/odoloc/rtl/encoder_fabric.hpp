@@ -1,6 +1,7 @@
 // The encoder half of the odometry fabric: four EPPMs on one 50 MHz clock.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <utility>
@@ -26,6 +27,17 @@ class EncoderFabric {
       order([&] { eppm_[W].template step<G>(in[W], cfg[W], order); }...);
     }
     (std::make_index_sequence<kEncoderCount>{});
+  }
+  // Fast-forward (clocked.hpp): the EPPMs' nearest event.
+  [[nodiscard]] std::uint64_t clocks_until_event(const In& in, const Config& cfg) const {
+    std::uint64_t clocks = kNoEvent;
+    for (std::size_t w = 0; w < kEncoderCount && clocks != 0; ++w)
+      clocks = std::min(clocks, eppm_[w].clocks_until_event(in[w], cfg[w]));
+    return clocks;
+  }
+  void skip(std::uint64_t n, const In& in, const Config& cfg) {
+    for (std::size_t w = 0; w < kEncoderCount; ++w)
+      eppm_[w].skip(n, in[w], cfg[w]);
   }
   [[nodiscard]] bool idle(const In& in, const Config& cfg) const {
     for (std::size_t w = 0; w < kEncoderCount; ++w)

@@ -9,6 +9,7 @@
 // register are documented in docs/eppm.md and asserted by testbenches/rtl/.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -202,6 +203,27 @@ class SpeedTimebase : public Registers<SpeedTimebaseRegs> {
             tick(in.prescale) ? UInt<16>{} : (r_.prescale_count + UInt<1>{1}).wrap<16>()};
   }
   [[nodiscard]] bool idle(const In&) const { return false; }  // counts every clock
+
+  // Fast-forward (clocked.hpp). Both counters restart after their terminal
+  // clock: the window's is window_end (window_count + 1 >= window_clocks, so
+  // 0 behaves as 1), the prescaler's is tick.
+  [[nodiscard]] std::uint64_t clocks_to_window_end(UInt<23> window_clocks) const {
+    return clocks_to_fire(r_.window_count.value(), window_last(window_clocks));
+  }
+  // n clocks in which no window ends; returns the reference ticks among them.
+  std::uint64_t skip(std::uint64_t n, const In& in) {
+    const RestartingCount window =
+        run_restarting(r_.window_count.value(), window_last(in.window_clocks), n);
+    const RestartingCount prescale =
+        run_restarting(r_.prescale_count.value(), in.prescale.value(), n);
+    commit({UInt<23>::truncate(window.count), UInt<16>::truncate(prescale.count)});
+    return prescale.fires;
+  }
+
+ private:
+  static std::uint64_t window_last(UInt<23> window_clocks) {
+    return window_clocks.is_zero() ? 0 : window_clocks.value() - 1;
+  }
 };
 
 // Pulse (M) method: signed edges per window of T clocks. Owns the mode bit,
@@ -323,6 +345,18 @@ class PeriodMeter : public Registers<PeriodMeterRegs> {
   [[nodiscard]] bool idle(const In& in) const {
     return in.step.is_zero() && !in.tick && (r_.sampled | in.clear_overflow | in.reset).is_zero();
   }
+
+  // Fast-forward: `ticks` reference ticks with no edge, strobe or control.
+  // Per tick the count saturates and a tick at the maximum sets overflow, so
+  // overflow is set iff count + ticks exceeds the maximum.
+  void skip_ticks(std::uint64_t ticks) {
+    Regs n = r_;
+    const std::uint64_t total = r_.count.value() + ticks;
+    if (total > Ticks::max_value)
+      n.overflow = UInt<1>{1};
+    n.count = Ticks::truncate(std::min<std::uint64_t>(total, Ticks::max_value));
+    commit(n);
+  }
 };
 
 // ---- the module ---------------------------------------------------------------
@@ -388,13 +422,10 @@ class Eppm {
 
   template <Gating G = Gating::kOn, class Order = DeclarationOrder>
   void step(const In& in, const Config& cfg, const Order& order = {}) {
-    // Fast path: a settled pipeline with unchanged pins and no control makes
-    // no step (the decoder's prev equals the filtered level), so only the
-    // timebase moves, plus the period meter on a tick. Window ends take the
-    // full path: they set a strobe that unsettles.
-    if (G == Gating::kOn && settled_ && pins(in, cfg) == conditioner_.regs().filtered &&
-        !timebase_.window_end(cfg.window.clocks) && (in.latch_clear | in.reset).is_zero() &&
-        !any_set(in.clear)) {
+    // Fast path: a quiet EPPM makes no step, so only the timebase moves, plus
+    // the period meter on a tick. Window ends take the full path: they set a
+    // strobe that unsettles.
+    if (G == Gating::kOn && quiet(in, cfg) && !timebase_.window_end(cfg.window.clocks)) {
       const Wires settled{.filtered = conditioner_.regs().filtered,
                           .step = SInt<2>{},
                           .window_end = false,
@@ -413,6 +444,15 @@ class Eppm {
           [&] { clock_block<G>(period_, period_in(w, in, cfg)); });
     settled_ = settled();
   }
+  // Fast-forward (clocked.hpp): while quiet, only the timebase and the
+  // period meter's count move, until the window ends.
+  [[nodiscard]] std::uint64_t clocks_until_event(const In& in, const Config& cfg) const {
+    return quiet(in, cfg) ? timebase_.clocks_to_window_end(cfg.window.clocks) : 0;
+  }
+  void skip(std::uint64_t n, const In& in, const Config& cfg) {
+    period_.skip_ticks(timebase_.skip(n, timebase_in(in, cfg)));
+  }
+
   [[nodiscard]] bool idle(const In& in, const Config& cfg) const {
     const Wires w = wires(cfg);
     return conditioner_.idle(conditioner_in(in, cfg)) && decoder_.idle(decoder_in(w, in)) &&
@@ -495,6 +535,12 @@ class Eppm {
   }
 
  private:
+  // Settled after the last full clock, the pins unchanged and no control: the
+  // decoder's prev equals the filtered level, so no step is made.
+  [[nodiscard]] bool quiet(const In& in, const Config& cfg) const {
+    return settled_ && pins(in, cfg) == conditioner_.regs().filtered &&
+           (in.latch_clear | in.reset).is_zero() && !any_set(in.clear);
+  }
   // Every stage holds the same A/B with no filter count, no strobe is pending
   // and the last clock carried no control: nothing but the timebase can move
   // until the pins change, a control arrives, a window ends or a tick comes.

@@ -3,6 +3,7 @@
 // MISO out; the only door is SPI (docs/spi.md).
 #pragma once
 
+#include <algorithm>
 #include <array>
 
 #include "odoloc/rtl/fabric_registers.hpp"
@@ -78,21 +79,11 @@ class OdolocChip {
   template <Gating G = Gating::kOn, class Order = DeclarationOrder>
   void step(const In& pins, const Order& order = {}) {
     record_pins(pins);
-    const SpiSlave::In spi_in{.sclk = pins.sclk,
-                              .cs_n = pins.cs_n,
-                              .mosi = pins.mosi,
-                              .crc_enable = config_.top.ctrl.crc_enable,
-                              .spi_mode3 = config_.top.ctrl.spi_mode3,
-                              .read_data = UInt<32>{},
-                              .write_refused = UInt<1>{},
-                              .reset = pins.reset};
     // No SPI strobe and no pulse pending (the common case): the register
     // file is idle, the fabric's strobes are all 0 and the slave reads nothing.
     if (G == Gating::kOn && registers_.quiet(spi_.strobing(), pins.reset)) {
-      for (std::size_t w = 0; w < kEncoderCount; ++w)  // per pin: see record_pins
-        idle_fabric_in_.pins[w] = pins.encoders[w];
-      idle_tof_in_.comparators = pins.comparators;
-      idle_tof_in_.sync = pins.tof_sync;
+      set_sensor_pins(idle_fabric_in_, idle_tof_in_, pins);
+      const SpiSlave::In spi_in = quiet_spi_in(pins);
       order([&] { fabric_.step<G>(idle_fabric_in_, config_, order); },
             [&] { tof_.step_pins<G>(idle_tof_in_, config_, order); },
             [&] { clock_block<G>(spi_, spi_in); });
@@ -100,6 +91,28 @@ class OdolocChip {
     }
     step_all<G>(pins, order);
   }
+
+  // Fast-forward (clocked.hpp): how many of the next clocks, with `pins`
+  // held, can be skipped: 0 while the SPI slave or the register file has
+  // anything to do, else the fabric's and the capture unit's nearest event.
+  [[nodiscard]] std::uint64_t clocks_until_event(const In& pins) const {
+    if (!registers_.quiet(spi_.strobing(), pins.reset) || !spi_.idle(quiet_spi_in(pins)))
+      return 0;
+    OdometryFabric::In fabric_in = idle_fabric_in_;
+    ChipTofCapture::In tof_in = idle_tof_in_;
+    set_sensor_pins(fabric_in, tof_in, pins);
+    return std::min(fabric_.clocks_until_event(fabric_in, config_),
+                    tof_.clocks_until_event(tof_in, config_));
+  }
+  void skip(std::uint64_t n, const In& pins) {
+    record_pins(pins);
+    set_sensor_pins(idle_fabric_in_, idle_tof_in_, pins);
+    fabric_.skip(n, idle_fabric_in_, config_);
+    tof_.skip(n, idle_tof_in_, config_);
+  }
+  // n clocks with `pins` held, bit-identical to n calls of step(pins);
+  // returns how many were skipped rather than stepped.
+  std::uint64_t advance(std::uint64_t n, const In& pins) { return fast_forward(*this, n, pins); }
   [[nodiscard]] bool idle(const In& pins) const {
     const Wires w = wires(pins);
     return fabric_.idle(w.fabric, config_) && tof_.idle(w.tof, config_) && spi_.idle(w.spi) &&
@@ -133,6 +146,24 @@ class OdolocChip {
   }
 
  private:
+  // The slave's inputs on a clock without a read or a refused write.
+  [[nodiscard]] SpiSlave::In quiet_spi_in(const In& pins) const {
+    return {.sclk = pins.sclk,
+            .cs_n = pins.cs_n,
+            .mosi = pins.mosi,
+            .crc_enable = config_.top.ctrl.crc_enable,
+            .spi_mode3 = config_.top.ctrl.spi_mode3,
+            .read_data = UInt<32>{},
+            .write_refused = UInt<1>{},
+            .reset = pins.reset};
+  }
+  // The fabric's and capture unit's inputs on a clock without strobes.
+  static void set_sensor_pins(OdometryFabric::In& fabric, ChipTofCapture::In& tof, const In& pins) {
+    for (std::size_t w = 0; w < kEncoderCount; ++w)  // per pin: see record_pins
+      fabric.pins[w] = pins.encoders[w];
+    tof.comparators = pins.comparators;
+    tof.sync = pins.tof_sync;
+  }
   // Field by field: testbenches set the pins one field at a time just before
   // the clock, and one wide copy of them would stall on store forwarding.
   void record_pins(const ChipPins& pins) {

@@ -380,10 +380,29 @@ class OdometrySequencer : public Registers<OdometrySequencerRegs> {
     return n;
   }
   [[nodiscard]] bool idle(const In&) const { return false; }  // the period counter runs
+
+  // Fast-forward (clocked.hpp), in the idle phase with no clear: the period
+  // counter restarts after the clock with period_count + 1 >= update_clocks
+  // (the period end, an event); with update_clocks 0 it wraps and never ends.
+  [[nodiscard]] std::uint64_t clocks_to_period_end(UInt<16> update_clocks) const {
+    return update_clocks.is_zero()
+               ? kNoEvent
+               : clocks_to_fire(r_.period_count.value(), period_last(update_clocks));
+  }
+  void skip(std::uint64_t n, const In& in) {
+    Regs next = r_;
+    next.period_count =
+        in.update_clocks.is_zero()
+            ? UInt<16>::truncate(r_.period_count.value() + n)
+            : UInt<16>::truncate(
+                  run_restarting(r_.period_count.value(), period_last(in.update_clocks), n).count);
+    commit(next);
+  }
   [[nodiscard]] OdometryPhase phase() const { return static_cast<OdometryPhase>(r_.phase.value()); }
   [[nodiscard]] bool in(OdometryPhase p) const { return phase() == p; }
 
  private:
+  static std::uint64_t period_last(UInt<16> update_clocks) { return update_clocks.value() - 1; }
   static constexpr UInt<4> encode(OdometryPhase p) { return UInt<4>{static_cast<std::uint8_t>(p)}; }
 };
 

@@ -8,6 +8,7 @@
 // odometry.command pulses, and status() is what the register file reads.
 #pragma once
 
+#include <algorithm>
 #include <array>
 
 #include "odoloc/rtl/cordic.hpp"
@@ -113,8 +114,7 @@ class OdometryFabric {
   void step(const In& in, const Config& cfg, const Order& order = {}) {
     // Between updates (the common case) only the EPPMs and the period
     // counter move: the CORDIC and every unit are idle.
-    if (G == Gating::kOn && sequencer_.in(OdometryPhase::kIdle) && in.reset.is_zero() &&
-        !any_set(in.odometry)) {
+    if (G == Gating::kOn && between_updates(in)) {
       const EncoderFabric::In encoders_in = eppm_inputs(in, UInt<1>{});
       const OdometrySequencer::In sequencer_in_ = sequencer_in(in, cfg);
       order([&] { encoders_.step<G>(encoders_in, cfg.eppm, order); },
@@ -123,6 +123,19 @@ class OdometryFabric {
     }
     step_all<G>(in, cfg, order);
   }
+  // Fast-forward (clocked.hpp): between updates, until an EPPM's event or
+  // the period end.
+  [[nodiscard]] std::uint64_t clocks_until_event(const In& in, const Config& cfg) const {
+    if (!between_updates(in))
+      return 0;
+    return std::min(encoders_.clocks_until_event(eppm_inputs(in, UInt<1>{}), cfg.eppm),
+                    sequencer_.clocks_to_period_end(cfg.odometry.cfg.update_clocks));
+  }
+  void skip(std::uint64_t n, const In& in, const Config& cfg) {
+    encoders_.skip(n, eppm_inputs(in, UInt<1>{}), cfg.eppm);
+    sequencer_.skip(n, sequencer_in(in, cfg));
+  }
+
   [[nodiscard]] bool idle(const In& in, const Config& cfg) const {
     const Wires w = wires(in, cfg);
     return encoders_.idle(w.encoders, cfg.eppm) && sequencer_.idle(w.sequencer) &&
@@ -205,6 +218,11 @@ class OdometryFabric {
           [&] { clock_block<G>(report_, w.report); });
   }
 
+  // Idle phase, no reset and no odometry strobe: the CORDIC and every unit
+  // are idle, the EPPMs see no latch.
+  [[nodiscard]] bool between_updates(const In& in) const {
+    return sequencer_.in(OdometryPhase::kIdle) && in.reset.is_zero() && !any_set(in.odometry);
+  }
   [[nodiscard]] UInt<1> phase_is(OdometryPhase p) const {
     return UInt<1>::truncate(sequencer_.in(p));
   }

@@ -71,6 +71,18 @@ class TofTimebase : public Registers<TofTimebaseRegs> {
     return {(r_.prescale_count + UInt<1>{1}).wrap<16>(), r_.timestamp};
   }
   [[nodiscard]] bool idle(const In&) const { return false; }  // counts every clock
+
+  // Fast-forward (clocked.hpp): the prescaler restarts after its tick; the
+  // next epoch is the tick that brings the timestamp's low kEpochBits to 0.
+  [[nodiscard]] std::uint64_t clocks_to_epoch(UInt<16> prescale) const {
+    constexpr std::uint64_t kEpochTicks = std::uint64_t{1} << kEpochBits;
+    const std::uint64_t ticks = kEpochTicks - (r_.timestamp.value() & (kEpochTicks - 1));
+    return clock_of_fire(r_.prescale_count.value(), prescale.value(), ticks);
+  }
+  void skip(std::uint64_t n, const In& in) {
+    const RestartingCount c = run_restarting(r_.prescale_count.value(), in.prescale.value(), n);
+    commit({UInt<16>::truncate(c.count), UInt<32>::truncate(r_.timestamp.value() + c.fires)});
+  }
 };
 
 // ---- event FIFO -----------------------------------------------------------------
@@ -408,8 +420,7 @@ class TofCapture {
 
   template <Gating G = Gating::kOn, class Order = DeclarationOrder>
   void step(const In& in, const Config& cfg, const Order& order = {}) {
-    if ((in.snapshot | in.clear_all | in.reset).is_zero() && !any_set(in.tof) &&
-        !any_set(in.channel)) {
+    if (!has_control(in)) {
       step_pins<G>(in, cfg, order);
       return;
     }
@@ -421,12 +432,19 @@ class TofCapture {
   // pulse's exact-width range: full path).
   template <Gating G = Gating::kOn, class Order = DeclarationOrder>
   void step_pins(const In& in, const Config& cfg, const Order& order = {}) {
-    if (G == Gating::kOn && settled_ && pins(in) == conditioner_.regs().filtered &&
-        !timebase_.epoch(cfg.tof.cfg.prescale)) {
+    if (G == Gating::kOn && quiet(in) && !timebase_.epoch(cfg.tof.cfg.prescale)) {
       order([&] { clock_block<G>(timebase_, timebase_in(in, cfg)); });
       return;
     }
     step_all<G>(in, cfg, order);
+  }
+  // Fast-forward (clocked.hpp): while quiet, only the timebase moves, until
+  // the next epoch tick.
+  [[nodiscard]] std::uint64_t clocks_until_event(const In& in, const Config& cfg) const {
+    return quiet(in) && !has_control(in) ? timebase_.clocks_to_epoch(cfg.tof.cfg.prescale) : 0;
+  }
+  void skip(std::uint64_t n, const In& in, const Config& cfg) {
+    timebase_.skip(n, timebase_in(in, cfg));
   }
   [[nodiscard]] bool idle(const In& in, const Config& cfg) const {
     const Wires w = wires(cfg);
@@ -476,6 +494,15 @@ class TofCapture {
   }
 
  private:
+  // A command, frame, pop, clear or reset this clock.
+  static bool has_control(const In& in) {
+    return !(in.snapshot | in.clear_all | in.reset).is_zero() || any_set(in.tof) ||
+           any_set(in.channel);
+  }
+  // Settled after the last full clock and the pins unchanged.
+  [[nodiscard]] bool quiet(const In& in) const {
+    return settled_ && pins(in) == conditioner_.regs().filtered;
+  }
   template <Gating G, class Order>
   [[gnu::noinline]] void step_all(const In& in, const Config& cfg, const Order& order) {
     const Wires w = wires(cfg);

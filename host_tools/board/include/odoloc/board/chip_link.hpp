@@ -61,12 +61,26 @@ class ChipLink final : public sw::SpiLink {
     pins_vcd_ = &vcd;
   }
 
-  // Clocks with cs_n high and SCLK at its idle level.
+  // Clocks with cs_n high and SCLK at its idle level. Without a stimulus the
+  // pins hold, and the chip fast-forwards (OdolocChip::advance, bit-identical)
+  // unless cycle stepping was asked for.
   void advance(std::uint64_t clocks) {
     const rtl::UInt<1> idle_sclk = rtl::UInt<1>::truncate(master_.config().mode3 ? 1 : 0);
+    if (!stimulus_ && !cycle_step_) {
+      pins_.sclk = idle_sclk;
+      pins_.cs_n = rtl::UInt<1>{1};
+      pins_.mosi = rtl::UInt<1>{};
+      skipped_ += chip_.advance(clocks, pins_);
+      clocks_ += clocks;
+      return;
+    }
     for (std::uint64_t i = 0; i < clocks; ++i)
       clock(idle_sclk, rtl::UInt<1>{1}, rtl::UInt<1>{});
   }
+  // Every clock stepped, as before fast-forward (for comparisons: --cycle-step).
+  void set_cycle_step(bool cycle_step) { cycle_step_ = cycle_step; }
+  // Clocks advance() skipped rather than stepped.
+  [[nodiscard]] std::uint64_t skipped_clocks() const { return skipped_; }
 
   [[nodiscard]] const rtl::OdolocChip& chip() const { return chip_; }
   [[nodiscard]] SpiPinMaster& master() { return master_; }
@@ -108,6 +122,8 @@ class ChipLink final : public sw::SpiLink {
   SpiPinMaster master_;
   Stimulus stimulus_;
   std::uint64_t clocks_ = 0;
+  std::uint64_t skipped_ = 0;
+  bool cycle_step_ = false;
   rtl::VcdWriter* vcd_ = nullptr;
   rtl::VcdWriter* pins_vcd_ = nullptr;
   bool in_frame_ = false;
