@@ -77,7 +77,11 @@ int main(int argc, char** argv) {
   std::string out_dir = "odoloc-demo";
   bool paper = false;
   app.add_option("--out", out_dir, "directory for trajectories.csv and trajectories.png");
+  bool cycle_step = false;
   app.add_flag("--paper", paper, "also run the paper's memoryless min-select");
+  app.add_flag("--cycle-step", cycle_step,
+               "step the fabric every clock instead of fast-forwarding between events "
+               "(bit-identical results, slower; for comparison)");
   CLI11_PARSE(app, argc, argv);
 
   const odoloc::world::Scenario scenario = odoloc::world::default_square();
@@ -106,6 +110,8 @@ int main(int argc, char** argv) {
   std::printf("running %zu cycle-accurate simulations on %u threads...\n", variants.size(),
               std::max(1U, std::thread::hardware_concurrency()));
   const auto start = std::chrono::steady_clock::now();
+  for (Variant& v : variants)
+    v.options.cycle_step = cycle_step;
   std::vector<RunResult> results(variants.size());
   {
     std::vector<std::jthread> workers;
@@ -131,10 +137,10 @@ int main(int argc, char** argv) {
   std::uint64_t clocks = 0;
   for (const RunResult& r : results)
     clocks += r.clocks;
-  std::printf("\nsimulated %zu x %.1f s (%.2f G clocks) in %.1f s wall (%.1f M clocks/s)\n",
+  std::printf("\nsimulated %zu x %.1f s (%.2f G clocks, %s) in %.1f s wall (%.1f M clocks/s)\n",
               results.size(), static_cast<double>(results.front().clocks) / 50e6,
-              static_cast<double>(clocks) / 1e9, wall_s,
-              static_cast<double>(clocks) / wall_s / 1e6);
+              static_cast<double>(clocks) / 1e9, cycle_step ? "cycle-stepped" : "fast-forward",
+              wall_s, static_cast<double>(clocks) / wall_s / 1e6);
 
   const std::filesystem::path dir(out_dir);
   try {

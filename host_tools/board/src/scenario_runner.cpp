@@ -1,5 +1,6 @@
 #include "odoloc/board/scenario_runner.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -80,26 +81,48 @@ RunResult run_scenario(const world::Scenario& scenario, const RunOptions& option
   RunResult result{};
   result.policy = options.policy;
   std::uint64_t updates_seen = 0;
-  const auto clock_once = [&] {
-    fabric.step(in, cfg);
-    const std::uint64_t updates = fabric.sequencer().updates.value();
-    if (updates != updates_seen) {
-      updates_seen = updates;
-      result.front_wins_ds += fabric.report().ds_from_front.value();
-    }
-    ++result.clocks;
-    if (options.record_every_clocks != 0 && result.clocks % options.record_every_clocks == 0) {
-      result.track.push_back({static_cast<double>(result.clocks) / sw::kFabricClockHz,
-                              truth.pose().pose, fabric_pose(fabric.pose())});
+  const std::uint64_t update_clocks = cfg.odometry.cfg.update_clocks.value();
+  // n clocks with the pins held, fast-forwarded (or stepped) in pieces that
+  // end at each period end and each track point, so that every update's
+  // report and every track point is seen.
+  const auto run = [&](std::uint64_t n) {
+    while (n != 0) {
+      std::uint64_t piece = n;
+      if (update_clocks != 0)
+        piece = std::min(piece, 1 + rtl::clocks_to_fire(fabric.sequencer().period_count.value(),
+                                                        update_clocks - 1));
+      if (options.record_every_clocks != 0)
+        piece = std::min(piece,
+                         options.record_every_clocks - result.clocks % options.record_every_clocks);
+      if (options.cycle_step) {
+        for (std::uint64_t k = 0; k < piece; ++k)
+          fabric.step(in, cfg);
+      } else {
+        rtl::fast_forward(fabric, piece, in, cfg);
+      }
+      n -= piece;
+      result.clocks += piece;
+      const std::uint64_t updates = fabric.sequencer().updates.value();
+      if (updates != updates_seen) {  // at most one update per piece
+        updates_seen = updates;
+        result.front_wins_ds += fabric.report().ds_from_front.value();
+      }
+      if (options.record_every_clocks != 0 && result.clocks % options.record_every_clocks == 0) {
+        result.track.push_back({static_cast<double>(result.clocks) / sw::kFabricClockHz,
+                                truth.pose().pose, fabric_pose(fabric.pose())});
+      }
     }
   };
   while (!truth.done()) {
     drive_encoder_pins(in.pins, truth.tick());
-    clock_once();
+    run(1);
+    // The ticks that repeat these levels, at once.
+    const std::uint64_t hold = truth.hold_ticks();
+    truth.skip(hold);
+    run(hold);
   }
   // Standing still: two more periods take in every edge still in flight.
-  for (std::uint64_t i = 0; i < 2 * cfg.odometry.cfg.update_clocks.value(); ++i)
-    clock_once();
+  run(2 * update_clocks);
 
   result.truth = truth.pose().pose;
   result.fabric = fabric_pose(fabric.pose());

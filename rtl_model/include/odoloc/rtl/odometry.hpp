@@ -381,7 +381,8 @@ class OdometrySequencer : public Registers<OdometrySequencerRegs> {
   }
   [[nodiscard]] bool idle(const In&) const { return false; }  // the period counter runs
 
-  // Fast-forward (clocked.hpp), in the idle phase with no clear: the period
+  // Fast-forward (clocked.hpp), in a phase that waits (idle, or a CORDIC
+  // wait before RESULT_READY) with no clear and no period end: the period
   // counter restarts after the clock with period_count + 1 >= update_clocks
   // (the period end, an event); with update_clocks 0 it wraps and never ends.
   [[nodiscard]] std::uint64_t clocks_to_period_end(UInt<16> update_clocks) const {

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <array>
+#include <utility>
 
 #include "odoloc/rtl/cordic.hpp"
 #include "odoloc/rtl/encoder_fabric.hpp"
@@ -123,16 +124,33 @@ class OdometryFabric {
     }
     step_all<G>(in, cfg, order);
   }
-  // Fast-forward (clocked.hpp): between updates, until an EPPM's event or
-  // the period end.
+  // Fast-forward (clocked.hpp), until an EPPM's event or the period end.
+  // The EPPMs see the update only in its LATCH clock, and the units read
+  // only the latched counts, which a quiet EPPM keeps: the rest of an update
+  // runs clock by clock in its own units while the EPPMs are skipped.
   [[nodiscard]] std::uint64_t clocks_until_event(const In& in, const Config& cfg) const {
-    if (!between_updates(in))
+    if (!in.reset.is_zero() || any_set(in.odometry) || sequencer_.in(OdometryPhase::kLatch))
       return 0;
     return std::min(encoders_.clocks_until_event(eppm_inputs(in, UInt<1>{}), cfg.eppm),
                     sequencer_.clocks_to_period_end(cfg.odometry.cfg.update_clocks));
   }
   void skip(std::uint64_t n, const In& in, const Config& cfg) {
     encoders_.skip(n, eppm_inputs(in, UInt<1>{}), cfg.eppm);
+    while (n != 0 && !sequencer_.in(OdometryPhase::kIdle)) {
+      const std::uint64_t iterations = cordic_wait();
+      if (iterations == 0) {
+        clock_units<Gating::kOn>(wires(in, cfg), DeclarationOrder{});
+        --n;
+        continue;
+      }
+      // Only the CORDIC iterates and the period counter counts: every unit
+      // waits for RESULT_READY.
+      const std::uint64_t clocks = std::min(n, iterations);
+      for (std::uint64_t k = 0; k < clocks; ++k)
+        clock_block(cordic_, SequentialCordic::In{});
+      sequencer_.skip(clocks, sequencer_in(in, cfg));
+      n -= clocks;
+    }
     sequencer_.skip(n, sequencer_in(in, cfg));
   }
 
@@ -210,14 +228,26 @@ class OdometryFabric {
   template <Gating G, class Order>
   [[gnu::noinline]] void step_all(const In& in, const Config& cfg, const Order& order) {
     const Wires w = wires(in, cfg);
-    order([&] { encoders_.step<G>(w.encoders, cfg.eppm, order); },
-          [&] { clock_block<G>(sequencer_, w.sequencer); },
-          [&] { clock_block<G>(cordic_, w.cordic); }, [&] { clock_block<G>(rear_, w.rear); },
-          [&] { clock_block<G>(front_, w.front); }, [&] { clock_block<G>(select_, w.select); },
-          [&] { clock_block<G>(integrator_, w.integrator); },
-          [&] { clock_block<G>(report_, w.report); });
+    clock_units<G>(w, order, [&] { encoders_.step<G>(w.encoders, cfg.eppm, order); });
+  }
+  // Every child but the EPPMs, plus `more` children, in `order`.
+  template <Gating G, class Order, class... More>
+  void clock_units(const Wires& w, const Order& order, More&&... more) {
+    order(
+        std::forward<More>(more)..., [&] { clock_block<G>(sequencer_, w.sequencer); },
+        [&] { clock_block<G>(cordic_, w.cordic); }, [&] { clock_block<G>(rear_, w.rear); },
+        [&] { clock_block<G>(front_, w.front); }, [&] { clock_block<G>(select_, w.select); },
+        [&] { clock_block<G>(integrator_, w.integrator); },
+        [&] { clock_block<G>(report_, w.report); });
   }
 
+  // In a CORDIC wait with the CORDIC busy: the micro-rotations left.
+  [[nodiscard]] std::uint64_t cordic_wait() const {
+    const bool waiting =
+        sequencer_.in(OdometryPhase::kPhiWait) || sequencer_.in(OdometryPhase::kThetaWait);
+    return waiting && cordic_.regs().busy ? cordic::kIterations - cordic_.regs().iteration.value()
+                                          : 0;
+  }
   // Idle phase, no reset and no odometry strobe: the CORDIC and every unit
   // are idle, the EPPMs see no latch.
   [[nodiscard]] bool between_updates(const In& in) const {

@@ -47,6 +47,7 @@ struct RunOptions {
   rtl::MinSelectPolicy policy = rtl::MinSelectPolicy::kPerComponent;
   MinSelectTuning tuning = MinSelectTuning::kVehicle;
   std::uint64_t record_every_clocks = 0;  // 0: no track
+  bool cycle_step = false;  // step every clock instead of fast-forwarding (bit-identical, slower)
 };
 
 RunResult run_scenario(const world::Scenario& scenario, const RunOptions& options);

@@ -49,6 +49,23 @@ class QuadratureSource {
   // Signed x4 edges since construction (floor of the phase).
   [[nodiscard]] std::int64_t edges() const { return phase_ >> kFractionBits; }
 
+  // For fast-forward: ticks until the next edge (the smallest k >= 1 after
+  // which edges() differs; the k-1 ticks before it keep the levels), or
+  // kNever when standing still.
+  static constexpr std::uint64_t kNever = ~std::uint64_t{0};
+  [[nodiscard]] std::uint64_t ticks_to_next_edge() const {
+    if (increment_ == 0)
+      return kNever;
+    const std::int64_t floor = edges() * (std::int64_t{1} << kFractionBits);
+    if (increment_ > 0) {
+      const std::int64_t distance = floor + (std::int64_t{1} << kFractionBits) - phase_;
+      return static_cast<std::uint64_t>((distance + increment_ - 1) / increment_);
+    }
+    return static_cast<std::uint64_t>((phase_ - floor) / -increment_) + 1;
+  }
+  // `ticks` ticks at once.
+  void skip(std::uint64_t ticks) { phase_ += static_cast<std::int64_t>(ticks) * increment_; }
+
  private:
   std::int64_t phase_ = 0;
   std::int64_t increment_ = 0;

@@ -10,6 +10,7 @@
 // wrapped; a positive steering angle phi turns left; distances are metres.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -198,6 +199,26 @@ class TricycleSimulator {
       clock_in_step_ = 0;
     ++clock_;
     return {sources_[0].tick(), sources_[1].tick(), sources_[2].tick(), sources_[3].tick()};
+  }
+
+  // For fast-forward: how many of the next ticks return the levels of the
+  // last one (0: the next one may change them or runs the physics), and
+  // skipping n <= hold_ticks() of them at once.
+  [[nodiscard]] std::uint64_t hold_ticks() const {
+    if (clock_in_step_ == 0)
+      return 0;
+    std::uint64_t hold = options_.clocks_per_step - clock_in_step_;
+    for (const QuadratureSource& s : sources_)
+      hold = std::min(hold, s.ticks_to_next_edge() - 1);
+    return hold;
+  }
+  void skip(std::uint64_t ticks) {
+    clock_in_step_ += static_cast<std::uint32_t>(ticks);
+    if (clock_in_step_ == options_.clocks_per_step)
+      clock_in_step_ = 0;
+    clock_ += ticks;
+    for (QuadratureSource& s : sources_)
+      s.skip(ticks);
   }
 
   // The truth at the current clock (exact, also between step boundaries).
