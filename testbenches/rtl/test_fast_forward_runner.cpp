@@ -1,11 +1,20 @@
-// The scenario runner (the main job's engine) fast-forwards the odometry
-// fabric between encoder edges and physics steps; with cycle_step it steps
-// every clock. Both give the same run to the bit: final poses, update
-// counts, the share of distance from the front unit and every track point,
-// for each disturbance case and min-select policy.
+// The scenario runner (the main job's engine) and the host tool's simulated
+// board fast-forward the model between encoder edges and physics steps; with
+// cycle_step they step every clock. Both give the same run to the bit: the
+// runner's final poses, update counts, share of distance from the front unit
+// and every track point, for each disturbance case and min-select policy;
+// the board's register reads (EPPM counts and speeds, the pose, the update
+// count, the TOF timestamp) every 20 ms of a drive.
 #include <gtest/gtest.h>
 
+#include <array>
+#include <chrono>
+#include <cstdint>
+
 #include "odoloc/board/scenario_runner.hpp"
+#include "odoloc/board/sim_target.hpp"
+#include "odoloc/regs.hpp"
+#include "odoloc/sw/spi_frame.hpp"
 #include "odoloc/world/scenarios.hpp"
 
 namespace {
@@ -47,6 +56,32 @@ TEST(FastForwardRunner, SameRunAsCycleStepping) {
       EXPECT_GT(stepped.updates, 1000U);  // a real drive, not an empty run
     }
   }
+}
+
+TEST(FastForwardRunner, SimulatedBoardReadsAsCycleStepping) {
+  using namespace std::chrono_literals;
+  namespace regs = odoloc::regs;
+  odoloc::board::SimTargetOptions options;
+  options.scenario = "bump_one_rear";
+  odoloc::board::SimTarget forwarded(options);
+  options.cycle_step = true;
+  odoloc::board::SimTarget stepped(options);
+  odoloc::sw::SpiRegisterBus stepped_bus(stepped.link(), {.crc = false, .confirm_writes = true});
+  odoloc::sw::SpiRegisterBus forwarded_bus(forwarded.link(),
+                                           {.crc = false, .confirm_writes = true});
+  for (int k = 0; k < 60; ++k) {
+    stepped.advance(20ms);
+    forwarded.advance(20ms);
+    for (const std::uint16_t base : {regs::eppm::kBase, regs::odometry::kBase, regs::tof::kBase}) {
+      std::array<std::uint32_t, 32> a{}, b{};
+      stepped_bus.read(base, a);
+      forwarded_bus.read(base, b);
+      ASSERT_EQ(a, b) << "block at " << base << ", read " << k;
+    }
+  }
+  EXPECT_EQ(stepped.clocks(), forwarded.clocks());
+  EXPECT_EQ(stepped.skipped_clocks(), 0U);
+  EXPECT_GT(forwarded.skipped_clocks(), forwarded.clocks() / 2);
 }
 
 }  // namespace

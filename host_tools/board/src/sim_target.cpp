@@ -28,14 +28,47 @@ const std::map<std::string, ScenarioMaker, std::less<>>& scenario_table() {
   return table;
 }
 
+// The ground-truth robot on the encoder pins. When the path ends the robot
+// stands still: the pins keep their levels.
+class TruthStimulus final : public SensorStimulus {
+ public:
+  explicit TruthStimulus(const std::string& name) {
+    if (name == "none")
+      return;
+    const auto it = scenario_table().find(name);
+    if (it == scenario_table().end())
+      throw std::invalid_argument("unknown scenario '" + name + "'");
+    const world::Scenario s = it->second();
+    world::Options truth_options;
+    truth_options.start = s.start;
+    truth_.emplace(s.geometry, s.path, s.disturbances, truth_options);
+  }
+  void tick(rtl::ChipPins& pins) override {
+    if (moving())
+      drive_encoder_pins(pins.encoders, truth_->tick());
+  }
+  [[nodiscard]] std::uint64_t hold() const override {
+    return moving() ? truth_->hold_ticks() : kForever;
+  }
+  void skip(std::uint64_t clocks) override {
+    if (moving())
+      truth_->skip(clocks);
+  }
+
+ private:
+  [[nodiscard]] bool moving() const { return truth_ && !truth_->done(); }
+  std::optional<world::TricycleSimulator> truth_;
+};
+
 }  // namespace
 
 // The chip, plus the ground-truth robot when a scenario drives the encoders.
 class SimTarget::Impl {
  public:
   explicit Impl(const SimTargetOptions& options)
-      : link_({.half_period = checked_half_period(options.sclk_half_period)},
-              make_stimulus(options.scenario)) {
+      : truth_(options.scenario),
+        link_({.half_period = checked_half_period(options.sclk_half_period)}, truth_) {
+    link_.set_cycle_step(options.cycle_step);
     if (!options.vcd_path.empty()) {
       open(vcd_file_, options.vcd_path);
       vcd_.emplace(vcd_file_);
@@ -79,24 +112,7 @@ class SimTarget::Impl {
                                   std::to_string(rtl::SpiSlave::kMinLevelClocks));
     return half_period;
   }
-  ChipLink::Stimulus make_stimulus(const std::string& name) {
-    if (name == "none")
-      return {};
-    const auto it = scenario_table().find(name);
-    if (it == scenario_table().end())
-      throw std::invalid_argument("unknown scenario '" + name + "'");
-    const world::Scenario s = it->second();
-    world::Options truth_options;
-    truth_options.start = s.start;
-    truth_.emplace(s.geometry, s.path, s.disturbances, truth_options);
-    // When the path ends the robot stands still: the pins keep their levels.
-    return [this](rtl::ChipPins& pins) {
-      if (!truth_->done())
-        drive_encoder_pins(pins.encoders, truth_->tick());
-    };
-  }
-
-  std::optional<world::TricycleSimulator> truth_;  // before link_: the stimulus refers to it
+  TruthStimulus truth_;  // before link_, which refers to it
   ChipLink link_;
   std::ofstream vcd_file_, pins_file_;
   std::string vcd_path_, pins_path_;
@@ -119,6 +135,10 @@ void SimTarget::advance(std::chrono::nanoseconds simulated) {
 
 std::uint64_t SimTarget::clocks() const {
   return impl_->link().clocks();
+}
+
+std::uint64_t SimTarget::skipped_clocks() const {
+  return impl_->link().skipped_clocks();
 }
 
 std::chrono::nanoseconds SimTarget::elapsed() const {

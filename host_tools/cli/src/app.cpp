@@ -20,7 +20,11 @@ namespace odoloc::cli {
 namespace {
 
 TargetOptions options_of(const Invocation& inv, const std::atomic<bool>* stop) {
-  return {.crc = inv.crc, .vcd = inv.vcd, .vcd_pins = inv.vcd_pins, .stop = stop};
+  return {.crc = inv.crc,
+          .vcd = inv.vcd,
+          .vcd_pins = inv.vcd_pins,
+          .cycle_step = inv.cycle_step,
+          .stop = stop};
 }
 
 struct ScriptStep {
@@ -63,10 +67,11 @@ std::vector<ScriptStep> parse_script(std::istream& in, const std::string& name, 
       if (words.empty())
         continue;
       Invocation inv = parse_invocation(words);
-      if (inv.target_given || inv.crc || !inv.vcd.empty() || !inv.vcd_pins.empty())
+      if (inv.target_given || inv.crc || !inv.vcd.empty() || !inv.vcd_pins.empty() ||
+          inv.cycle_step)
         throw UsageError(
-            "--target, --crc, --vcd and --vcd-pins choose the transport once, on the odoloc "
-            "command line, for the whole script");
+            "--target, --crc, --vcd, --vcd-pins and --cycle-step choose the transport once, on "
+            "the odoloc command line, for the whole script");
       if (std::holds_alternative<ScriptCommand>(inv.command) && inv.help.empty())
         throw UsageError("a script cannot run another script");
       if (simulated && inv.help.empty())

@@ -402,6 +402,9 @@ Invocation parse_invocation(std::span<const std::string> args) {
   app.add_option("--vcd-pins", inv.vcd_pins,
                  "sim target: write only the four SPI pins of every frame to this VCD file "
                  "(for sigrok-cli and other logic-analyser software)");
+  app.add_flag("--cycle-step", inv.cycle_step,
+               "sim target: step the chip every clock instead of fast-forwarding between "
+               "events (same results, slower; for comparison)");
   app.set_version_flag("--version", version_text());
 
   CLI::App* reg = app.add_subcommand("reg", "list, read, write, dump and watch registers");
@@ -520,7 +523,8 @@ Invocation parse_invocation(std::span<const std::string> args) {
   const auto refuse_board_options = [&](std::string_view command, std::string_view does) {
     for (const auto& [given, option] :
          {std::pair{target_opt->count() > 0, "--target"}, std::pair{inv.crc, "--crc"},
-          std::pair{!inv.vcd.empty(), "--vcd"}, std::pair{!inv.vcd_pins.empty(), "--vcd-pins"}})
+          std::pair{!inv.vcd.empty(), "--vcd"}, std::pair{!inv.vcd_pins.empty(), "--vcd-pins"},
+          std::pair{inv.cycle_step, "--cycle-step"}})
       if (given)
         throw UsageError(fmt::format("{} does not apply to {}: it {} and opens no target", option,
                                      command, does));

@@ -18,7 +18,10 @@ namespace {
 class SimBoard final : public Target {
  public:
   SimBoard(const std::string& scenario, const TargetOptions& options)
-      : sim_({.scenario = scenario, .vcd_path = options.vcd, .vcd_pins_path = options.vcd_pins}),
+      : sim_({.scenario = scenario,
+              .vcd_path = options.vcd,
+              .vcd_pins_path = options.vcd_pins,
+              .cycle_step = options.cycle_step}),
         bus_(sim_.link(), {.crc = options.crc}),
         stop_(options.stop) {}
   sw::RegisterBus& bus() override { return bus_; }

@@ -105,8 +105,9 @@ SpidevSpec parse_spidev_spec(std::string_view argument) {
 
 std::unique_ptr<Target> open_spidev_target(std::string_view argument,
                                            const TargetOptions& options) {
-  if (!options.vcd.empty() || !options.vcd_pins.empty())
-    throw UsageError("--vcd and --vcd-pins record the simulated chip: they need --target sim");
+  if (!options.vcd.empty() || !options.vcd_pins.empty() || options.cycle_step)
+    throw UsageError(
+        "--vcd, --vcd-pins and --cycle-step act on the simulated chip: they need --target sim");
   return std::make_unique<SpidevTarget>(parse_spidev_spec(argument), options);
 }
 

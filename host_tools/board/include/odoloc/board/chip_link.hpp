@@ -16,15 +16,39 @@
 
 namespace odoloc::board {
 
+// What drives the sensor pins (encoders, ultrasonic comparators, TOF sync)
+// of a simulated chip. For fast-forward it says how long they hold.
+class SensorStimulus {
+ public:
+  static constexpr std::uint64_t kForever = ~std::uint64_t{0};
+  SensorStimulus() = default;
+  SensorStimulus(const SensorStimulus&) = delete;
+  SensorStimulus& operator=(const SensorStimulus&) = delete;
+  virtual ~SensorStimulus() = default;
+  // Sets the sensor pins of the next clock, and moves on one clock.
+  virtual void tick(rtl::ChipPins& pins) = 0;
+  // How many of the clocks after it keep the pins the last tick() set (0:
+  // unknown), and moving on by n <= hold() of them at once.
+  [[nodiscard]] virtual std::uint64_t hold() const = 0;
+  virtual void skip(std::uint64_t clocks) = 0;
+};
+
 class ChipLink final : public sw::SpiLink {
  public:
-  // Sets the sensor pins (encoders, ultrasonic comparators, TOF sync) before
-  // every clock; empty: they stay as they are. The SPI pins are the master's.
+  // Sets the sensor pins before every clock, with no knowledge of when they
+  // change: every clock is stepped. Empty: the pins stay as they are.
   using EncoderPins = decltype(rtl::ChipPins::encoders);
   using Stimulus = std::function<void(rtl::ChipPins&)>;
 
   explicit ChipLink(SpiMasterConfig config, Stimulus stimulus = {})
-      : master_(config), stimulus_(std::move(stimulus)) {}
+      : master_(config), per_clock_(std::move(stimulus)) {
+    if (per_clock_)
+      stimulus_ = &per_clock_;
+  }
+  // A stimulus that tells how long its pins hold: idle stretches fast-forward
+  // between its pin changes. It must outlive the link.
+  ChipLink(SpiMasterConfig config, SensorStimulus& stimulus)
+      : master_(config), per_clock_(Stimulus{}), stimulus_(&stimulus) {}
 
   void transfer(std::span<const std::uint8_t> mosi, std::span<std::uint8_t> miso) override {
     const std::vector<std::uint8_t> got = transfer_bits(mosi, SpiPinMaster::kNoAbort);
@@ -61,21 +85,31 @@ class ChipLink final : public sw::SpiLink {
     pins_vcd_ = &vcd;
   }
 
-  // Clocks with cs_n high and SCLK at its idle level. Without a stimulus the
-  // pins hold, and the chip fast-forwards (OdolocChip::advance, bit-identical)
-  // unless cycle stepping was asked for.
+  // Clocks with cs_n high and SCLK at its idle level. While the sensor pins
+  // hold, the chip fast-forwards (OdolocChip::advance, bit-identical to
+  // stepping) unless cycle stepping was asked for.
   void advance(std::uint64_t clocks) {
     const rtl::UInt<1> idle_sclk = rtl::UInt<1>::truncate(master_.config().mode3 ? 1 : 0);
-    if (!stimulus_ && !cycle_step_) {
-      pins_.sclk = idle_sclk;
-      pins_.cs_n = rtl::UInt<1>{1};
-      pins_.mosi = rtl::UInt<1>{};
-      skipped_ += chip_.advance(clocks, pins_);
-      clocks_ += clocks;
+    if (cycle_step_) {
+      for (std::uint64_t i = 0; i < clocks; ++i)
+        clock(idle_sclk, rtl::UInt<1>{1}, rtl::UInt<1>{});
       return;
     }
-    for (std::uint64_t i = 0; i < clocks; ++i)
-      clock(idle_sclk, rtl::UInt<1>{1}, rtl::UInt<1>{});
+    pins_.sclk = idle_sclk;
+    pins_.cs_n = rtl::UInt<1>{1};
+    pins_.mosi = rtl::UInt<1>{};
+    while (clocks != 0) {
+      std::uint64_t run = clocks;  // clocks on these pins
+      if (stimulus_ != nullptr) {
+        stimulus_->tick(pins_);
+        const std::uint64_t held = std::min(clocks - 1, stimulus_->hold());
+        stimulus_->skip(held);
+        run = 1 + held;
+      }
+      skipped_ += chip_.advance(run, pins_);
+      clocks_ += run;
+      clocks -= run;
+    }
   }
   // Every clock stepped, as before fast-forward (for comparisons: --cycle-step).
   void set_cycle_step(bool cycle_step) { cycle_step_ = cycle_step; }
@@ -88,8 +122,8 @@ class ChipLink final : public sw::SpiLink {
 
   // One fabric clock with these SPI pin levels; returns MISO after it.
   rtl::UInt<1> clock(rtl::UInt<1> sclk, rtl::UInt<1> cs_n, rtl::UInt<1> mosi) {
-    if (stimulus_)
-      stimulus_(pins_);
+    if (stimulus_ != nullptr)
+      stimulus_->tick(pins_);
     pins_.sclk = sclk;
     pins_.cs_n = cs_n;
     pins_.mosi = mosi;
@@ -103,6 +137,19 @@ class ChipLink final : public sw::SpiLink {
   }
 
  private:
+  // A per-clock function as a stimulus that never knows how long it holds.
+  class PerClock final : public SensorStimulus {
+   public:
+    explicit PerClock(Stimulus f) : f_(std::move(f)) {}
+    explicit operator bool() const { return static_cast<bool>(f_); }
+    void tick(rtl::ChipPins& pins) override { f_(pins); }
+    [[nodiscard]] std::uint64_t hold() const override { return 0; }
+    void skip(std::uint64_t /*clocks*/) override {}
+
+   private:
+    Stimulus f_;
+  };
+
   // The SPI pins as the board sees them after a clock: the master's three
   // outputs and the chip's MISO.
   struct SpiPins {
@@ -120,7 +167,8 @@ class ChipLink final : public sw::SpiLink {
   rtl::OdolocChip chip_;
   rtl::ChipPins pins_;
   SpiPinMaster master_;
-  Stimulus stimulus_;
+  PerClock per_clock_;
+  SensorStimulus* stimulus_ = nullptr;
   std::uint64_t clocks_ = 0;
   std::uint64_t skipped_ = 0;
   bool cycle_step_ = false;

@@ -18,6 +18,7 @@ struct SimTargetOptions {
   unsigned sclk_half_period = 4;  // fabric clocks per SCLK level (>= 4: 6.25 MHz)
   std::string vcd_path;           // non-empty: the chip's waveform of every frame (VCD)
   std::string vcd_pins_path;      // non-empty: only the four SPI pins during every frame (VCD)
+  bool cycle_step = false;        // step every clock instead of fast-forwarding (same results)
 };
 
 class SimTarget {
@@ -33,6 +34,8 @@ class SimTarget {
   // Runs the fabric for `simulated` time with cs_n high.
   void advance(std::chrono::nanoseconds simulated);
   [[nodiscard]] std::uint64_t clocks() const;
+  // Clocks fast-forwarded rather than stepped (0 with cycle_step).
+  [[nodiscard]] std::uint64_t skipped_clocks() const;
   // Simulated time since construction.
   [[nodiscard]] std::chrono::nanoseconds elapsed() const;
 

@@ -63,8 +63,9 @@ struct Invocation {
   bool target_given = false;
   bool json = false;
   bool crc = false;
-  std::string vcd;       // sim target: waveform file
-  std::string vcd_pins;  // sim target: SPI pins only
+  std::string vcd;          // sim target: waveform file
+  std::string vcd_pins;     // sim target: SPI pins only
+  bool cycle_step = false;  // sim target: no fast-forward
   Command command;
   std::string help;  // not empty: --help or --version was asked for; print it, run nothing
 };

@@ -19,9 +19,10 @@
 namespace odoloc::cli {
 
 struct TargetOptions {
-  bool crc = false;      // switch the fabric's SPI CRC-8 on first (top.ctrl.crc_enable)
-  std::string vcd;       // sim only: write the chip's waveform of every frame here
-  std::string vcd_pins;  // sim only: the four SPI pins of every frame, for sigrok and the like
+  bool crc = false;         // switch the fabric's SPI CRC-8 on first (top.ctrl.crc_enable)
+  std::string vcd;          // sim only: write the chip's waveform of every frame here
+  std::string vcd_pins;     // sim only: the four SPI pins of every frame, for sigrok and the like
+  bool cycle_step = false;  // sim only: step every clock instead of fast-forwarding
   // Set by Ctrl-C: wait() returns early by throwing Interrupted.
   const std::atomic<bool>* stop = nullptr;
 };
