@@ -1,12 +1,15 @@
 // Speed targets live here, not in timed tests: `odoloc_bench` (Google Benchmark).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <random>
 
 #include "beacon_geometry.hpp"
 #include "odoloc/board/chip_link.hpp"
 #include "odoloc/board/encoder_pins.hpp"
+#include "odoloc/board/world_stimulus.hpp"
 #include "odoloc/regs.hpp"
 #include "odoloc/rtl/encoder_fabric.hpp"
 #include "odoloc/sw/kleeman_solver.hpp"
@@ -15,6 +18,8 @@
 #include "odoloc/world/acoustic_systems.hpp"
 #include "odoloc/world/acoustics.hpp"
 #include "odoloc/world/quadrature_source.hpp"
+#include "odoloc/world/scenarios.hpp"
+#include "odoloc/world/tricycle.hpp"
 #include "odometry_bench.hpp"
 
 namespace {
@@ -159,6 +164,66 @@ void BM_OdolocChip_FastForward_EncodersStill(benchmark::State& state) {
       static_cast<double>(link.skipped_clocks()) / static_cast<double>(link.clocks());
 }
 BENCHMARK(BM_OdolocChip_FastForward_EncodersStill);
+
+// The default long run (issue 13): the tricycle drives laps of the 6 m square
+// at 1 m/s (all four encoders moving; 1 ms physics steps), Kleeman's beacons
+// fire one every 150 ms around it onto the capture unit's eight envelope
+// comparators, and the SoC reads the EPPM block and channel 0's FIFO (32
+// words each) every 100 ms over SPI. Args: simulated seconds, cycle_step.
+// items/s: effective fabric clocks per second; realtime: x the 50 MHz fabric.
+// The world (the truth's trajectory, the acoustic run) is built untimed.
+void BM_Patrol(benchmark::State& state) {
+  namespace world = odoloc::world;
+  const auto seconds = static_cast<double>(state.range(0));
+  const bool cycle_step = state.range(1) != 0;
+  const world::Scenario scenario = world::patrol(seconds);
+  world::Options options;
+  options.start = scenario.start;
+  options.clocks_per_step = 50'000;
+  options.record_every_steps = 10;
+  const auto clocks = static_cast<std::uint64_t>(seconds * odoloc::rtl::kFabricClockHz);
+  world::TricycleSimulator prepass(scenario.geometry, scenario.path, scenario.disturbances,
+                                   options);
+  while (prepass.clock() < clocks) {
+    prepass.tick();
+    prepass.skip(std::min(prepass.hold_ticks(), clocks - prepass.clock()));
+  }
+  const world::KleemanTiming timing;
+  const auto cycles = static_cast<std::size_t>(std::ceil(seconds / timing.cycle_s()));
+  const world::AcousticRun run =
+      world::simulate(world::kleeman_world(), world::kleeman_schedule(timing, cycles),
+                      world::interpolate(prepass.trajectory()), seconds, 1);
+  constexpr std::uint64_t kReadPeriodClocks = 5'000'000;  // 100 ms
+  std::uint64_t skipped = 0;
+  for (auto _ : state) {
+    world::TricycleSimulator truth(scenario.geometry, scenario.path, scenario.disturbances,
+                                   options);
+    world::AcousticPins acoustics(run, world::ComparatorKind::kEnvelope);
+    odoloc::board::WorldStimulus stimulus(&truth, &acoustics);
+    odoloc::board::ChipLink link({.half_period = 4}, stimulus);
+    link.set_cycle_step(cycle_step);
+    odoloc::sw::SpiRegisterBus bus(link, {.crc = false, .confirm_writes = false});
+    bus.write(odoloc::regs::tof::command::kAddress, odoloc::regs::tof::command::arm.set(0, 0xFF));
+    std::array<std::uint32_t, 32> words{};
+    while (link.clocks() < clocks) {
+      link.advance(std::min(kReadPeriodClocks, clocks - link.clocks()));
+      bus.read(odoloc::regs::eppm::kBase, words);
+      bus.read(odoloc::regs::tof_channel::status::address(0), words);
+      benchmark::DoNotOptimize(words);
+    }
+    skipped = link.skipped_clocks();
+    state.SetItemsProcessed(static_cast<std::int64_t>(link.clocks()));
+  }
+  state.counters["skipped"] = static_cast<double>(skipped) / static_cast<double>(clocks);
+  state.counters["realtime"] = benchmark::Counter(seconds, benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_Patrol)
+    ->ArgNames({"seconds", "cycle_step"})
+    ->Args({600, 0})
+    ->Args({60, 0})
+    ->Args({2, 1})
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond);
 
 // Register reads through the sim target: SoC bus -> frame codec -> pin-level
 // master -> chip, 32-word bursts at the fastest legal SCLK (6.25 MHz).

@@ -533,6 +533,15 @@ TEST(CliE2e, VcdNeedsTheSimTarget) {
       run({"--vcd", "x.vcd", "-t", "spidev:/dev/spidev9.9", "reg", "read", "top.id"}), "--vcd");
 }
 
+// --cycle-step acts on the simulated chip only, and is chosen once per run.
+TEST(CliE2e, CycleStepNeedsTheSimTargetAndTheCommandLine) {
+  expect_usage_error(run({"--cycle-step", "-t", "spidev:/dev/spidev9.9", "reg", "read", "top.id"}),
+                     "--cycle-step");
+  expect_usage_error(run({"script", "-"}, "--cycle-step reg read top.id\n"), "--cycle-step");
+  expect_usage_error(run({"--cycle-step", "locate", "--layout", "l", "--arrivals", "a"}),
+                     "--cycle-step does not apply to locate");
+}
+
 // ------------------------------------------------------------ issue 9
 
 // The first Ctrl-C ends any command within milliseconds, exit 130 (the
@@ -557,24 +566,26 @@ Result interrupt(const std::vector<std::string>& args, const std::string& input 
   return r;
 }
 
+// Cycle stepped, so that 9 s of simulated time take seconds of CPU (with
+// fast-forward they may end before the Ctrl-C).
 TEST(CliE2eLimits, FirstCtrlCEndsEveryCommandWith130) {
   const std::string target = fmt::format("sim:{}", kDrivingScenario);
-  const Result wait = interrupt({"-t", target, "wait", "9s"});
+  const Result wait = interrupt({"-t", target, "--cycle-step", "wait", "9s"});
   EXPECT_EQ(wait.code, 130) << wait.err;
   EXPECT_TRUE(wait.err.empty()) << wait.err;
   // A watch without --count ends after its complete lines.
-  const Result watch =
-      interrupt({"-t", target, "reg", "watch", "top.id", "--interval", "9s"}, {}, "top.id=");
+  const Result watch = interrupt(
+      {"-t", target, "--cycle-step", "reg", "watch", "top.id", "--interval", "9s"}, {}, "top.id=");
   EXPECT_EQ(watch.code, 130) << watch.err;
   EXPECT_EQ(lines(watch.out), 1U) << watch.out;
-  const Result counted = interrupt(
-      {"-t", target, "--json", "reg", "watch", "top.id", "--interval", "5s", "--count", "3"}, {},
-      "sample");
+  const Result counted = interrupt({"-t", target, "--cycle-step", "--json", "reg", "watch",
+                                    "top.id", "--interval", "5s", "--count", "3"},
+                                   {}, "sample");
   EXPECT_EQ(counted.code, 130) << counted.err;
   EXPECT_EQ(json_lines(counted.out).size(), 1U);
   // A script: the line running ends, the next never starts.
-  const Result script =
-      interrupt({"-t", target, "script", "-"}, "wait 9s\nreg write top.scratch=1\n");
+  const Result script = interrupt({"-t", target, "--cycle-step", "script", "-"},
+                                  "wait 9s\nreg write top.scratch=1\n");
   EXPECT_EQ(script.code, 130) << script.err;
   EXPECT_TRUE(script.out.empty()) << script.out;
 }

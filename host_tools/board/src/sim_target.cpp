@@ -10,7 +10,7 @@
 #include <stdexcept>
 
 #include "odoloc/board/chip_link.hpp"
-#include "odoloc/board/encoder_pins.hpp"
+#include "odoloc/board/world_stimulus.hpp"
 #include "odoloc/world/scenarios.hpp"
 #include "odoloc/world/tricycle.hpp"
 
@@ -28,37 +28,19 @@ const std::map<std::string, ScenarioMaker, std::less<>>& scenario_table() {
   return table;
 }
 
-// The ground-truth robot on the encoder pins. When the path ends the robot
-// stands still: the pins keep their levels.
-class TruthStimulus final : public SensorStimulus {
- public:
-  explicit TruthStimulus(const std::string& name) {
-    if (name == "none")
-      return;
-    const auto it = scenario_table().find(name);
-    if (it == scenario_table().end())
-      throw std::invalid_argument("unknown scenario '" + name + "'");
-    const world::Scenario s = it->second();
-    world::Options truth_options;
-    truth_options.start = s.start;
-    truth_.emplace(s.geometry, s.path, s.disturbances, truth_options);
-  }
-  void tick(rtl::ChipPins& pins) override {
-    if (moving())
-      drive_encoder_pins(pins.encoders, truth_->tick());
-  }
-  [[nodiscard]] std::uint64_t hold() const override {
-    return moving() ? truth_->hold_ticks() : kForever;
-  }
-  void skip(std::uint64_t clocks) override {
-    if (moving())
-      truth_->skip(clocks);
-  }
-
- private:
-  [[nodiscard]] bool moving() const { return truth_ && !truth_->done(); }
-  std::optional<world::TricycleSimulator> truth_;
-};
+// The scenario's ground-truth robot, if any ("none": the pins stay).
+std::optional<world::TricycleSimulator> make_truth(const std::string& name) {
+  if (name == "none")
+    return std::nullopt;
+  const auto it = scenario_table().find(name);
+  if (it == scenario_table().end())
+    throw std::invalid_argument("unknown scenario '" + name + "'");
+  const world::Scenario s = it->second();
+  world::Options truth_options;
+  truth_options.start = s.start;
+  return std::optional<world::TricycleSimulator>(std::in_place, s.geometry, s.path, s.disturbances,
+                                                 truth_options);
+}
 
 }  // namespace
 
@@ -66,8 +48,9 @@ class TruthStimulus final : public SensorStimulus {
 class SimTarget::Impl {
  public:
   explicit Impl(const SimTargetOptions& options)
-      : truth_(options.scenario),
-        link_({.half_period = checked_half_period(options.sclk_half_period)}, truth_) {
+      : truth_(make_truth(options.scenario)),
+        stimulus_(truth_ ? &*truth_ : nullptr, nullptr),
+        link_({.half_period = checked_half_period(options.sclk_half_period)}, stimulus_) {
     link_.set_cycle_step(options.cycle_step);
     if (!options.vcd_path.empty()) {
       open(vcd_file_, options.vcd_path);
@@ -112,7 +95,8 @@ class SimTarget::Impl {
                                   std::to_string(rtl::SpiSlave::kMinLevelClocks));
     return half_period;
   }
-  TruthStimulus truth_;  // before link_, which refers to it
+  std::optional<world::TricycleSimulator> truth_;  // before link_, which drives it
+  WorldStimulus stimulus_;
   ChipLink link_;
   std::ofstream vcd_file_, pins_file_;
   std::string vcd_path_, pins_path_;

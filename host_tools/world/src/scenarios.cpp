@@ -73,4 +73,18 @@ Scenario default_square() {
   return s;
 }
 
+Scenario patrol(double seconds) {
+  Scenario s;
+  s.name = "laps of the 6 m square";
+  s.start = {2.0, 2.0, 0.0};  // the square inside Kleeman's 10 m x 10 m room
+  const Path lap = square_path(s.geometry, 6.0, 1.0, 30.0 * kDeg);
+  // A lap is about 24 m at 1 m/s (rounded corners are shorter, turning in
+  // and out takes longer): 20 s is a lower bound of its duration.
+  constexpr double kLapAtLeastS = 20.0;
+  s.path.steer_rate_radps = lap.steer_rate_radps;
+  for (double t = 0; t < seconds; t += kLapAtLeastS)
+    s.path.segments.insert(s.path.segments.end(), lap.segments.begin(), lap.segments.end());
+  return s;
+}
+
 }  // namespace odoloc::world

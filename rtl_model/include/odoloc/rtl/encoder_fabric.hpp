@@ -28,16 +28,11 @@ class EncoderFabric {
     }
     (std::make_index_sequence<kEncoderCount>{});
   }
-  // Fast-forward (clocked.hpp): the EPPMs' nearest event.
-  [[nodiscard]] std::uint64_t clocks_until_event(const In& in, const Config& cfg) const {
-    std::uint64_t clocks = kNoEvent;
-    for (std::size_t w = 0; w < kEncoderCount && clocks != 0; ++w)
-      clocks = std::min(clocks, eppm_[w].clocks_until_event(in[w], cfg[w]));
-    return clocks;
-  }
-  void skip(std::uint64_t n, const In& in, const Config& cfg) {
+  // n clocks with `in` held (clocked.hpp): the EPPMs share no signal, so
+  // each one steps through its own events and skips between them.
+  void advance(std::uint64_t n, const In& in, const Config& cfg) {
     for (std::size_t w = 0; w < kEncoderCount; ++w)
-      eppm_[w].skip(n, in[w], cfg[w]);
+      eppm_[w].advance(n, in[w], cfg[w]);
   }
   [[nodiscard]] bool idle(const In& in, const Config& cfg) const {
     for (std::size_t w = 0; w < kEncoderCount; ++w)

@@ -452,6 +452,10 @@ class Eppm {
   void skip(std::uint64_t n, const In& in, const Config& cfg) {
     period_.skip_ticks(timebase_.skip(n, timebase_in(in, cfg)));
   }
+  // n clocks with `in` held: stepped through its events, skipped between.
+  void advance(std::uint64_t n, const In& in, const Config& cfg) {
+    fast_forward(*this, n, in, cfg);
+  }
 
   [[nodiscard]] bool idle(const In& in, const Config& cfg) const {
     const Wires w = wires(cfg);

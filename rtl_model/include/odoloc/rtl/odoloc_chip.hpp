@@ -94,21 +94,19 @@ class OdolocChip {
 
   // Fast-forward (clocked.hpp): how many of the next clocks, with `pins`
   // held, can be skipped: 0 while the SPI slave or the register file has
-  // anything to do, else the fabric's and the capture unit's nearest event.
+  // anything to do (a strobe, a frame, a reset), else until the odometry
+  // period ends. In between, the capture unit and the fabric's EPPMs share
+  // no signal with anything, so each advances on its own through its events.
   [[nodiscard]] std::uint64_t clocks_until_event(const In& pins) const {
     if (!registers_.quiet(spi_.strobing(), pins.reset) || !spi_.idle(quiet_spi_in(pins)))
       return 0;
-    OdometryFabric::In fabric_in = idle_fabric_in_;
-    ChipTofCapture::In tof_in = idle_tof_in_;
-    set_sensor_pins(fabric_in, tof_in, pins);
-    return std::min(fabric_.clocks_until_event(fabric_in, config_),
-                    tof_.clocks_until_event(tof_in, config_));
+    return fabric_.clocks_until_event(idle_fabric_in_, config_);  // reads no pin
   }
   void skip(std::uint64_t n, const In& pins) {
     record_pins(pins);
     set_sensor_pins(idle_fabric_in_, idle_tof_in_, pins);
     fabric_.skip(n, idle_fabric_in_, config_);
-    tof_.skip(n, idle_tof_in_, config_);
+    tof_.advance(n, idle_tof_in_, config_);
   }
   // n clocks with `pins` held, bit-identical to n calls of step(pins);
   // returns how many were skipped rather than stepped.

@@ -124,18 +124,18 @@ class OdometryFabric {
     }
     step_all<G>(in, cfg, order);
   }
-  // Fast-forward (clocked.hpp), until an EPPM's event or the period end.
-  // The EPPMs see the update only in its LATCH clock, and the units read
-  // only the latched counts, which a quiet EPPM keeps: the rest of an update
-  // runs clock by clock in its own units while the EPPMs are skipped.
+  // Fast-forward (clocked.hpp), until the period end. The EPPMs see the
+  // update only in its LATCH clock (a latch-and-clear), and the units read
+  // only the latched counts, which nothing else changes: outside LATCH the
+  // EPPMs advance on their own, and the rest of an update runs clock by
+  // clock in its own units.
   [[nodiscard]] std::uint64_t clocks_until_event(const In& in, const Config& cfg) const {
     if (!in.reset.is_zero() || any_set(in.odometry) || sequencer_.in(OdometryPhase::kLatch))
       return 0;
-    return std::min(encoders_.clocks_until_event(eppm_inputs(in, UInt<1>{}), cfg.eppm),
-                    sequencer_.clocks_to_period_end(cfg.odometry.cfg.update_clocks));
+    return sequencer_.clocks_to_period_end(cfg.odometry.cfg.update_clocks);
   }
   void skip(std::uint64_t n, const In& in, const Config& cfg) {
-    encoders_.skip(n, eppm_inputs(in, UInt<1>{}), cfg.eppm);
+    encoders_.advance(n, eppm_inputs(in, UInt<1>{}), cfg.eppm);
     while (n != 0 && !sequencer_.in(OdometryPhase::kIdle)) {
       const std::uint64_t iterations = cordic_wait();
       if (iterations == 0) {

@@ -446,6 +446,10 @@ class TofCapture {
   void skip(std::uint64_t n, const In& in, const Config& cfg) {
     timebase_.skip(n, timebase_in(in, cfg));
   }
+  // n clocks with `in` held: stepped through its events, skipped between.
+  void advance(std::uint64_t n, const In& in, const Config& cfg) {
+    fast_forward(*this, n, in, cfg);
+  }
   [[nodiscard]] bool idle(const In& in, const Config& cfg) const {
     const Wires w = wires(cfg);
     bool idle = conditioner_.idle(conditioner_in(in, cfg)) &&

@@ -28,5 +28,8 @@ Scenario bump_scenario(BumpCase c, double metres = 2.0, double heading_rad = 0.5
 // The default of the demo: a 24 m square (6 m sides, rounded corners) with
 // one disturbance of each kind along the way.
 Scenario default_square();
+// Laps of the same square at 1 m/s, without disturbances, for at least
+// `seconds` (whole laps): the long drive of the fast-forward benchmark.
+Scenario patrol(double seconds);
 
 }  // namespace odoloc::world
