@@ -107,6 +107,7 @@ void BM_OdolocChip_CycleStep(benchmark::State& state) {
   for (auto _ : state)
     link.advance(1024);
   state.SetItemsProcessed(static_cast<std::int64_t>(link.clocks()));
+  state.counters["chip_bytes"] = sizeof(odoloc::rtl::OdolocChip);  // memory per instance
 }
 BENCHMARK(BM_OdolocChip_CycleStep);
 
