@@ -3,7 +3,6 @@
 // MISO out; the only door is SPI (docs/spi.md).
 #pragma once
 
-#include <algorithm>
 #include <array>
 
 #include "odoloc/rtl/fabric_registers.hpp"
@@ -109,7 +108,8 @@ class OdolocChip {
     tof_.advance(n, idle_tof_in_, config_);
   }
   // n clocks with `pins` held, bit-identical to n calls of step(pins);
-  // returns how many were skipped rather than stepped.
+  // returns how many were not stepped as a whole chip (inside them the EPPMs
+  // and the capture unit still step through their own events).
   std::uint64_t advance(std::uint64_t n, const In& pins) { return fast_forward(*this, n, pins); }
   [[nodiscard]] bool idle(const In& pins) const {
     const Wires w = wires(pins);
