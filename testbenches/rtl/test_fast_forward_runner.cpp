@@ -54,6 +54,8 @@ TEST(FastForwardRunner, SameRunAsCycleStepping) {
         expect_same_pose(forwarded.track[i].truth, stepped.track[i].truth);
       }
       EXPECT_GT(stepped.updates, 1000U);  // a real drive, not an empty run
+      EXPECT_EQ(stepped.skipped_clocks, 0U);
+      EXPECT_GT(forwarded.skipped_clocks, forwarded.clocks / 2);  // the fast path was compared
     }
   }
 }

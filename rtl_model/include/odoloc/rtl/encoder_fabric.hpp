@@ -1,7 +1,6 @@
 // The encoder half of the odometry fabric: four EPPMs on one 50 MHz clock.
 #pragma once
 
-#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <utility>

@@ -38,6 +38,7 @@ struct RunResult {
   double heading_error_rad;
   double distance_m;  // rear-midpoint path length
   std::uint64_t clocks;
+  std::uint64_t skipped_clocks;  // fast-forwarded rather than stepped (0 with cycle_step)
   std::uint64_t updates;
   std::uint64_t front_wins_ds;   // updates whose distance came from the front unit
   std::vector<PosePoint> track;  // every `record_every_clocks`
