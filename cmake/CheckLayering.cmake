@@ -7,6 +7,7 @@
 #   soc_software/       never odoloc/rtl/, odoloc/world/, odoloc/board/, odoloc/cli/
 #   host_tools/world/   the C++ standard library and odoloc/world/... only
 #   host_tools/board/   never odoloc/cli/
+#   host_tools/sweep/   never odoloc/cli/ (the host tool sits on the sweep library)
 #   hls/include, hls/src  the standard library, odoloc/hls/, the model's C++14
 #                       constant headers (odoloc/rtl/*_constants.hpp) and the
 #                       vendors' type headers only: kernels are exported alone
@@ -113,6 +114,8 @@ check_layer(host_tools/world "the world includes only the standard library and o
             ALLOW_STD ALLOW "^odoloc/world/")
 check_layer(host_tools/board "the board never includes the host tool"
             DENY "^odoloc/cli/")
+check_layer(host_tools/sweep "the sweep library never includes the host tool"
+            DENY "^odoloc/cli/")
 foreach(dir hls/include hls/src)
   check_layer(${dir} "a kernel includes only odoloc/hls/, the model's constant headers and the vendor's"
               ALLOW_STD ALLOW "^odoloc/hls/" "^odoloc/rtl/[a-z_0-9]+_constants\\.hpp$"
@@ -162,7 +165,7 @@ endfunction()
 
 if(LINKS_FILE)
   include(${LINKS_FILE})
-  set(host_tool_targets odoloc_world odoloc_board odoloc_cli_lib)
+  set(host_tool_targets odoloc_world odoloc_board odoloc_sweep odoloc_cli_lib)
   check_links(odoloc_world "the world links nothing but the warning flags"
               ALLOW odoloc_warnings)
   check_links(odoloc_rtl "the model links no software or host-tool target"

@@ -18,6 +18,7 @@ if [ "${1:-}" = "--tests" ]; then
     gtkwave      # vcd2fst: the waveform test cross-checks our VCD with GTKWave's own reader
     verilator    # test_rdl lints the SystemVerilog PeakRDL-regblock makes from odoloc.rdl
     sigrok-cli   # test_cli_e2e decodes the host tool's --vcd-pins waveform with sigrok's SPI decoder
+    parallel     # test_sweep_e2e runs a sweep's shards through GNU parallel
     gcc-avr avr-libc                          # test_regmap_corpus: odoloc_regs.h with a 16-bit int
     gcc-arm-none-eabi libnewlib-arm-none-eabi  # ... and on a Cortex-M compiler
   )

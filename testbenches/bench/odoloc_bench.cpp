@@ -29,9 +29,10 @@ using odoloc::rtl::EncoderFabric;
 using odoloc::rtl::kEncoderCount;
 using odoloc::world::QuadratureSource;
 
-// Edge rates of real wheel encoders: 500-line encoder (2000 x4 edges/rev)
-// behind a 30:1 gearbox on a 0.1 m wheel gives about 95 k edges/s at 1 m/s.
-constexpr double kEdgesPerSecond[kEncoderCount] = {200e3, 20e3, 1e6, 2e3};
+// Issue 13's stimulus, the one Verilator was measured under: quadrature at
+// 50 k, 20 k, 125 k and 4 k edges/s; the steering encoder reverses every
+// 1.3 ms.
+constexpr double kEdgesPerSecond[kEncoderCount] = {50e3, 20e3, 125e3, 4e3};
 constexpr std::uint64_t kSteeringReversalClocks = 1U << 16;  // 1.3 ms
 
 double edges_per_clock(std::size_t wheel) {
@@ -225,6 +226,93 @@ BENCHMARK(BM_Patrol)
     ->Args({2, 1})
     ->Iterations(1)
     ->Unit(benchmark::kSecond);
+
+// ---- how cost grows with work ---------------------------------------------
+// Synthetic sensor pins for the scaling benchmarks: `encoders` encoders at
+// `edges_per_second` each (the rest still), and `channels` comparators each
+// pulsing 100 us high every 1 ms (the capture unit armed on all eight; its
+// FIFOs fill, then count overflows: the same work per pulse). Knows when its
+// pins next change, so the link fast-forwards between them.
+class SyntheticPins final : public odoloc::board::SensorStimulus {
+ public:
+  static constexpr std::uint64_t kPulsePeriod = 50'000;  // 1 ms
+  static constexpr std::uint64_t kPulseWidth = 5'000;    // 100 us
+  SyntheticPins(std::size_t encoders, double edges_per_second, std::size_t channels)
+      : channels_(channels) {
+    for (std::size_t w = 0; w < encoders; ++w)
+      sources_[w].set_rate(edges_per_second / odoloc::rtl::kFabricClockHz);
+  }
+  void tick(odoloc::rtl::ChipPins& pins) override {
+    for (std::size_t w = 0; w < kEncoderCount; ++w)
+      pins.encoders[w] = encoder_pins(sources_[w].tick());
+    const bool high = clock_ % kPulsePeriod < kPulseWidth;
+    pins.comparators = decltype(pins.comparators)::truncate(high ? (1U << channels_) - 1 : 0U);
+    ++clock_;
+  }
+  [[nodiscard]] std::uint64_t hold() const override {
+    std::uint64_t hold = kForever;
+    for (const QuadratureSource& s : sources_)
+      hold = std::min(hold, s.ticks_to_next_edge() - 1);
+    if (channels_ != 0) {
+      const std::uint64_t phase = clock_ % kPulsePeriod;
+      hold = std::min(hold, (phase < kPulseWidth ? kPulseWidth : kPulsePeriod) - phase);
+    }
+    return hold;
+  }
+  void skip(std::uint64_t clocks) override {
+    for (QuadratureSource& s : sources_)
+      s.skip(clocks);
+    clock_ += clocks;
+  }
+
+ private:
+  std::array<QuadratureSource, kEncoderCount> sources_{};
+  std::size_t channels_;
+  std::uint64_t clock_ = 0;
+};
+
+// Runs the chip on SyntheticPins (SPI idle) for 20 ms of fabric time per
+// iteration: items/s are fabric clocks per second (fast-forward: effective).
+void run_scaling(benchmark::State& state, std::size_t encoders, double edges_per_second,
+                 std::size_t channels, bool cycle_step) {
+  SyntheticPins pins(encoders, edges_per_second, channels);
+  odoloc::board::ChipLink link({.half_period = 4}, pins);
+  odoloc::sw::SpiRegisterBus bus(link, {.crc = false, .confirm_writes = false});
+  bus.write(odoloc::regs::tof::command::kAddress, odoloc::regs::tof::command::arm.set(0, 0xFF));
+  link.set_cycle_step(cycle_step);
+  constexpr std::uint64_t kClocksPerIteration = 1'000'000;  // 20 ms
+  const std::uint64_t start = link.clocks();
+  for (auto _ : state)
+    link.advance(kClocksPerIteration);
+  state.SetItemsProcessed(static_cast<std::int64_t>(link.clocks() - start));
+  state.counters["chip_bytes"] = sizeof(odoloc::rtl::OdolocChip);
+}
+constexpr double kScalingEdgesPerSecond = 100e3;  // about 1 m/s on the front wheel
+
+// Args: encoders moving (100 k edges/s each), cycle_step.
+void BM_Scaling_Encoders(benchmark::State& state) {
+  run_scaling(state, static_cast<std::size_t>(state.range(0)), kScalingEdgesPerSecond, 0,
+              state.range(1) != 0);
+}
+BENCHMARK(BM_Scaling_Encoders)
+    ->ArgNames({"encoders", "cycle_step"})
+    ->ArgsProduct({{0, 1, 2, 3, 4}, {0, 1}});
+
+// Args: edges per second on one encoder, cycle_step.
+void BM_Scaling_EdgeRate(benchmark::State& state) {
+  run_scaling(state, 1, static_cast<double>(state.range(0)), 0, state.range(1) != 0);
+}
+BENCHMARK(BM_Scaling_EdgeRate)
+    ->ArgNames({"edges_per_s", "cycle_step"})
+    ->ArgsProduct({{1'000, 10'000, 100'000, 1'000'000}, {0, 1}});
+
+// Args: comparator channels pulsing (1 kHz), cycle_step; encoders still.
+void BM_Scaling_TofChannels(benchmark::State& state) {
+  run_scaling(state, 0, 0, static_cast<std::size_t>(state.range(0)), state.range(1) != 0);
+}
+BENCHMARK(BM_Scaling_TofChannels)
+    ->ArgNames({"channels", "cycle_step"})
+    ->ArgsProduct({{0, 1, 2, 4, 8}, {0, 1}});
 
 // Register reads through the sim target: SoC bus -> frame codec -> pin-level
 // master -> chip, 32-word bursts at the fastest legal SCLK (6.25 MHz).

@@ -16,6 +16,7 @@
 #include "golden_testbench.hpp"
 #include "odoloc/hls/cordic_kernel.hpp"
 #include "odoloc/hls_export/reference.hpp"
+#include "text_mutation.hpp"
 
 namespace {
 
@@ -101,23 +102,7 @@ TEST(GoldenTestbench, RandomMutationsNeverCrash) {
   const std::string alphabet = "0123456789 -#\nx\t";
   int failed = 0;
   for (int n = 0; n < 2000; ++n) {
-    std::string text = good;
-    const int edits = 1 + static_cast<int>(rng() % 4);
-    for (int e = 0; e < edits; ++e) {
-      const std::size_t at = rng() % text.size();
-      switch (rng() % 3) {
-        case 0:
-          text[at] = alphabet[rng() % alphabet.size()];
-          break;
-        case 1:
-          text.erase(at, 1 + rng() % 8);
-          break;
-        default:
-          text.insert(at, 1, alphabet[rng() % alphabet.size()]);
-          break;
-      }
-    }
-    const int status = run(text);
+    const int status = run(odoloc::tb::mutated(good, rng, alphabet, 4, 8));
     ASSERT_TRUE(status == 0 || status == 1);
     failed += status;
   }

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "odoloc/board/beacon_ranges.hpp"
 #include "odoloc/sw/kleeman_solver.hpp"
 #include "odoloc/sw/multilateration.hpp"
 #include "odoloc/world/acoustic_systems.hpp"
@@ -46,13 +47,6 @@ world::AcousticWorld room_world(double temperature_c = 20) {
   return w;
 }
 
-loc::BeaconLayout layout_of(const world::AcousticWorld& w) {
-  loc::BeaconLayout layout;
-  for (const world::Beacon& b : w.beacons)
-    layout.beacons.push_back({{b.position.x_m, b.position.y_m}, w.height_m});
-  return layout;
-}
-
 struct Sample {
   loc::Vec2 truth;
   loc::RangeSet set;
@@ -70,84 +64,20 @@ Sample measure(world::AcousticWorld w, const world::Pose& pose, int block, doubl
                std::mt19937_64& rng) {
   Sample s;
   s.truth = {pose.x_m, pose.y_m};
-  const double c = w.air.speed_of_sound_mps();
   if (block >= 0) {
-    const world::Vec2 b = w.beacons[static_cast<std::size_t>(block)].position;
-    const double dx = b.x_m - pose.x_m, dy = b.y_m - pose.y_m;
-    const double len = std::hypot(dx, dy);
-    const world::Vec2 at{pose.x_m + 0.4 * dx / len, pose.y_m + 0.4 * dy / len};
-    w.obstacles.push_back({at, at, 0.1});
+    w.obstacles.push_back(
+        world::direct_path_blocker(w, {pose.x_m, pose.y_m}, static_cast<std::size_t>(block)));
     s.corrupted = true;
   }
-  const world::KleemanTiming timing;
-  const world::Schedule schedule = world::kleeman_schedule(timing, 1, 0.01);
-  const world::AcousticRun run =
-      world::simulate(w, schedule, world::stationary(pose), 0.01 + timing.cycle_s(), rng());
   std::normal_distribution<double> chain(0.0, kChainSdM);
+  const std::uint64_t world_seed = rng();
   const double offset = std::uniform_real_distribution<double>(-2.0, 6.0)(rng);
-  const double c_used = c_assumed > 0 ? c_assumed : c;
-  s.set.speed_of_sound_mps = c_used;
-  s.set.beacons.resize(w.beacons.size());
-  std::vector<bool> seen(w.beacons.size(), false);
-  for (const world::EmissionRecord& e : run.emissions) {
-    const std::size_t b = e.emission.beacon;
-    if (seen[b])
-      continue;  // beacon 0's second pulse
-    seen[b] = true;
-    // Each path (direct, each wall) as one wavefront: its time at the robot
-    // origin from every receiver that heard it, averaged.
-    struct Front {
-      double time_s = 0;
-      int receivers = 0;
-      bool direct = false;
-    };
-    std::vector<Front> fronts(1 + world::kWallCount);
-    for (const world::Reception& r : e.receivers) {
-      const auto add = [&](const world::Arrival& a, std::size_t slot) {
-        if (!a.above_threshold)
-          return;
-        const double to_origin = std::sqrt((a.source.x_m - pose.x_m) * (a.source.x_m - pose.x_m) +
-                                           (a.source.y_m - pose.y_m) * (a.source.y_m - pose.y_m) +
-                                           w.height_m * w.height_m);
-        fronts[slot].time_s += a.time_s - (a.path_m - to_origin) / c;
-        fronts[slot].receivers += 1;
-        fronts[slot].direct = slot == 0;
-      };
-      add(r.direct, 0);
-      for (const world::Arrival& echo : r.echoes)
-        add(echo, 1 + world::index(*echo.wall));
-    }
-    std::vector<loc::RangeCandidate> candidates;
-    std::vector<bool> is_direct;
-    for (const Front& f : fronts) {
-      if (f.receivers == 0)
-        continue;
-      const double sd_t = std::sqrt(kPathJitterS * kPathJitterS +
-                                    kReceiverJitterS * kReceiverJitterS / f.receivers);
-      const double sd = std::hypot(c_used * sd_t, kChainSdM);
-      const double d = c_used * (f.time_s / f.receivers - e.emission_s) + offset + chain(rng);
-      candidates.push_back({d, sd, {}});
-      is_direct.push_back(f.direct);
-    }
-    std::vector<std::size_t> order(candidates.size());
-    for (std::size_t i = 0; i < order.size(); ++i)
-      order[i] = i;
-    std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
-      return candidates[x].distance_m < candidates[y].distance_m;
-    });
-    loc::BeaconRange& range = s.set.beacons[b];
-    for (const std::size_t i : order)
-      range.candidates.push_back(candidates[i]);
-    if (range.candidates.empty()) {
-      range.flags = loc::Flags(loc::Flag::kMissing);
-      continue;
-    }
-    range.primary = 0;
-    if (is_direct[order[0]]) {
-      s.direct.push_back(static_cast<int>(b));
-      s.sd_m.push_back(range.candidates[0].sd_m);
-    }
-  }
+  odoloc::board::MeasuredCycle cycle = odoloc::board::measure_kleeman_cycle(
+      w, pose, c_assumed > 0 ? c_assumed : w.air.speed_of_sound_mps(), offset, kChainSdM,
+      world_seed, [&] { return chain(rng); });
+  s.set = std::move(cycle.ranges);
+  s.direct = std::move(cycle.direct);
+  s.sd_m = std::move(cycle.direct_sd_m);
   return s;
 }
 
@@ -213,7 +143,7 @@ struct RunSpec {
 
 std::vector<Sample> make_run(const RunSpec& spec) {
   const world::AcousticWorld w = room_world(spec.temperature_c);
-  const loc::BeaconLayout layout = layout_of(w);
+  const loc::BeaconLayout layout = odoloc::board::beacon_layout(w);
   std::mt19937_64 rng(spec.seed);
   std::uniform_real_distribution<double> u(0.5, 9.5);
   std::uniform_real_distribution<double> heading(-3.14159, 3.14159);
@@ -268,7 +198,7 @@ struct SolverTallies {
 };
 
 TEST(BeaconSolversMonteCarlo, CleanDataReachesTheBound) {
-  const loc::BeaconLayout layout = layout_of(room_world());
+  const loc::BeaconLayout layout = odoloc::board::beacon_layout(room_world());
   const std::vector<Sample> run = make_run({.points = 600, .seed = 2026});
   SolverTallies all;
   const Tally& gn = all.gn;
@@ -285,7 +215,7 @@ TEST(BeaconSolversMonteCarlo, CleanDataReachesTheBound) {
 }
 
 TEST(BeaconSolversMonteCarlo, OneEchoCorruptedBeacon) {
-  const loc::BeaconLayout layout = layout_of(room_world());
+  const loc::BeaconLayout layout = odoloc::board::beacon_layout(room_world());
   const std::vector<Sample> run =
       make_run({.points = 2000, .block_beacon = 1, .block_probability = 0.3, .seed = 7});
   SolverTallies all;
@@ -313,7 +243,7 @@ TEST(BeaconSolversMonteCarlo, OneEchoCorruptedBeacon) {
 // Kleeman's self-calibration: the air at 28 C, the distances computed with
 // 20 C's 343.2 m/s (a 1.3 % range error), c a state.
 TEST(BeaconSolversMonteCarlo, SelfCalibratedSpeedOfSound) {
-  const loc::BeaconLayout layout = layout_of(room_world());
+  const loc::BeaconLayout layout = odoloc::board::beacon_layout(room_world());
   const double c_true = room_world(28).air.speed_of_sound_mps();
   const double prior_sd = loc::MultilaterationOptions{}.speed_of_sound_tolerance / 2;
   const std::vector<Sample> run = make_run({.points = 800,

@@ -21,6 +21,7 @@
 #include <random>
 #include <vector>
 
+#include "odoloc/board/beacon_ranges.hpp"
 #include "odoloc/board/chip_link.hpp"
 #include "odoloc/sw/beacon_cycle.hpp"
 #include "odoloc/sw/beacon_fix.hpp"
@@ -178,9 +179,7 @@ TEST(TofChain, MonteCarloDistanceAndDirectionErrors) {
   std::vector<std::vector<double>> errors(n);
   std::vector<double> doa_errors;
   // The whole chain, pins to fix: the all-beacon estimator on every locked cycle.
-  loc::BeaconLayout layout;
-  for (const world::Beacon& b : w.beacons)
-    layout.beacons.push_back({{b.position.x_m, b.position.y_m}, w.height_m});
+  const loc::BeaconLayout layout = odoloc::board::beacon_layout(w);
   double fix_e2 = 0, fix_nees = 0, heading_z2 = 0, heading_e2 = 0;
   int fixes = 0, cycles = 0, headings = 0;
   for (int k = 0; k < poses; ++k) {

@@ -16,8 +16,8 @@
 //    repository's examples/, so `examples/locate/layout.yaml` works as from
 //    the repository's root.
 //  - Lines naming a spidev target need a board and are skipped, as are sh
-//    blocks using sigrok-cli, gtkwave or gnuplot where they are not
-//    installed; ```text blocks (synopses) are not run.
+//    blocks using sigrok-cli, gtkwave, gnuplot or GNU parallel where they
+//    are not installed; ```text blocks (synopses) are not run.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -203,7 +203,7 @@ void check_sh(const Block& b) {
   if (!tool)
     return;
   // Optional viewers and decoders: the example needs them installed.
-  for (const char* optional : {"sigrok-cli", "gtkwave", "gnuplot"}) {
+  for (const char* optional : {"sigrok-cli", "gtkwave", "gnuplot", "parallel"}) {
     if (script.find(optional) != std::string::npos &&
         shell(fmt::format("command -v {} >/dev/null", optional)).code != 0) {
       std::cout << fmt::format("{}:{}: skipped, {} is not installed\n", b.file, b.line, optional);

@@ -28,8 +28,8 @@ constexpr std::string_view kFooter =
     "target, 130 Ctrl-C.\n"
     "Every run of `--target sim` starts a fresh simulated chip; `odoloc script` runs many\n"
     "commands on one. Reading an rc register (reg read, dump, watch) clears it.\n"
-    "`odoloc locate` reads files only and `odoloc export-hls` writes files only: neither opens\n"
-    "a target.\n"
+    "`odoloc locate` reads files only, `odoloc export-hls` writes files only and `odoloc sweep`\n"
+    "runs its own simulations: none opens a target.\n"
     "Manual: docs/host-tool.md.";
 
 template <class... F>
@@ -101,8 +101,10 @@ std::map<std::uint16_t, std::uint32_t> read_locations(sw::RegisterBus& bus,
 // With `for_help`, only words that are there are checked (`odoloc --help`
 // and `odoloc reg --help` are fine, `odoloc frobnicate --help` is not).
 void check_command_words(std::span<const std::string> args, bool for_help = false) {
-  static const std::vector<std::string> kCommands{"reg", "script", "wait", "locate", "export-hls"};
+  static const std::vector<std::string> kCommands{"reg",    "script",     "wait",
+                                                  "locate", "export-hls", "sweep"};
   static const std::vector<std::string> kRegCommands{"list", "read", "write", "dump", "watch"};
+  static const std::vector<std::string> kSweepCommands{"run", "merge"};
   std::vector<std::string> words;
   for (std::size_t i = 0; i < args.size() && words.size() < 2; ++i) {
     const std::string& a = args[i];
@@ -113,7 +115,7 @@ void check_command_words(std::span<const std::string> args, bool for_help = fals
     if (a.starts_with("-"))
       continue;
     words.push_back(a);
-    if (a != "reg")
+    if (a != "reg" && a != "sweep")
       break;
   }
   const auto check = [](const std::string& word, const std::vector<std::string>& known,
@@ -136,13 +138,16 @@ void check_command_words(std::span<const std::string> args, bool for_help = fals
     return;
   if (words.empty())
     throw UsageError(
-        "no command given; expected reg, script, wait, locate or export-hls (odoloc --help for "
-        "usage)");
+        "no command given; expected reg, script, wait, locate, export-hls or sweep (odoloc --help "
+        "for usage)");
   check(words[0], kCommands, "command");
   if (words[0] == "reg" && words.size() == 1 && !for_help)
     throw UsageError("reg needs a command: list, read, write, dump or watch");
+  if (words[0] == "sweep" && words.size() == 1 && !for_help)
+    throw UsageError("sweep needs a command: run or merge");
   if (words.size() == 2)
-    check(words[1], kRegCommands, "reg command");
+    check(words[1], words[0] == "reg" ? kRegCommands : kSweepCommands,
+          fmt::format("{} command", words[0]));
 }
 
 Target& need(Target* target) {
@@ -382,12 +387,15 @@ Invocation parse_invocation(std::span<const std::string> args) {
     std::string hls_out, hls_tool = "vitis";
     std::vector<std::string> hls_kernels;
     bool hls_force = false;
+    std::string sweep_shard = "1/1";
   } raw;
   LocateCommand locate_command;
+  SweepRunCommand sweep_run_command;
+  SweepMergeCommand sweep_merge_command;
 
   CLI::App app{
-      "Register access to the odoloc FPGA fabric over SPI (simulated or real), and beacon fixes "
-      "from recorded arrivals.",
+      "Register access to the odoloc FPGA fabric over SPI (simulated or real), beacon fixes "
+      "from recorded arrivals, and Monte Carlo and parameter sweeps.",
       "odoloc"};
   app.footer(std::string{kFooter});
   app.fallthrough();
@@ -495,6 +503,38 @@ Invocation parse_invocation(std::span<const std::string> args) {
                        "OUT may hold files: replace the exported kernels' folders in it");
   export_hls->fallthrough();
 
+  CLI::App* sweep = app.add_subcommand(
+      "sweep",
+      "Monte Carlo and parameter sweeps: run a shard of a YAML spec, merge the shards' files "
+      "(docs/sweep.md; no target)");
+  sweep->require_subcommand(1);
+  sweep->fallthrough();
+  CLI::App* sweep_run = sweep->add_subcommand(
+      "run", "run shard K of N of a sweep and write its result file (JSON Lines)");
+  sweep_run->add_option("SPEC", sweep_run_command.spec, "the sweep: YAML (docs/sweep.md)")
+      ->required();
+  sweep_run
+      ->add_option("--shard", raw.sweep_shard,
+                   "run the jobs j with j % N == K - 1 (default 1/1: every job)")
+      ->type_name("K/N");
+  sweep_run->add_option("--out", sweep_run_command.out, "the result file to write")
+      ->type_name("FILE")
+      ->required();
+  CLI::App* sweep_merge = sweep->add_subcommand(
+      "merge", "check the shard files of one run and write its table, summary and plots");
+  sweep_merge->add_option("FILE", sweep_merge_command.files, "every shard file of the run")
+      ->required();
+  sweep_merge
+      ->add_option("--out", sweep_merge_command.out,
+                   "the folder for jobs.csv, points.csv, summary.md, plots.gp and the PNGs "
+                   "(created; its parent must exist)")
+      ->type_name("DIR")
+      ->required();
+  sweep_merge->add_flag("--no-plot{false}", sweep_merge_command.plot,
+                        "write plots.gp but do not run gnuplot");
+  for (CLI::App* sub : {sweep_run, sweep_merge})
+    sub->fallthrough();
+
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   try {
     app.parse(reversed);
@@ -567,6 +607,13 @@ Invocation parse_invocation(std::span<const std::string> args) {
     command.request.tool = parse_hls_tool(raw.hls_tool);
     command.request.force = raw.hls_force;
     inv.command = std::move(command);
+  } else if (sweep_run->parsed()) {
+    refuse_board_options("sweep run", "simulates in process");
+    sweep_run_command.shard = parse_shard_option(raw.sweep_shard);
+    inv.command = std::move(sweep_run_command);
+  } else if (sweep_merge->parsed()) {
+    refuse_board_options("sweep merge", "reads and writes files");
+    inv.command = std::move(sweep_merge_command);
   } else {
     throw UsageError("no command given (odoloc --help for usage)");
   }
@@ -609,7 +656,9 @@ void check_simulated(const Command& command) {
 bool needs_target(const Command& command) {
   return !std::holds_alternative<ListCommand>(command) &&
          !std::holds_alternative<LocateCommand>(command) &&
-         !std::holds_alternative<ExportHlsCommand>(command);
+         !std::holds_alternative<ExportHlsCommand>(command) &&
+         !std::holds_alternative<SweepRunCommand>(command) &&
+         !std::holds_alternative<SweepMergeCommand>(command);
 }
 
 void execute(const Command& command, Target* target, std::ostream& out, bool json,
@@ -625,6 +674,8 @@ void execute(const Command& command, Target* target, std::ostream& out, bool jso
           [&](const ScriptCommand&) { throw UsageError("a script cannot run another script"); },
           [&](const LocateCommand& c) { run_locate(c, out, json); },
           [&](const ExportHlsCommand& c) { run_export_hls(c, out, json); },
+          [&](const SweepRunCommand& c) { run_sweep_run(c, out, json, stop); },
+          [&](const SweepMergeCommand& c) { run_sweep_merge(c, out, json); },
       },
       command);
 }

@@ -7,10 +7,11 @@
 #include <cmath>
 #include <memory>
 #include <numbers>
-#include <random>
 #include <stdexcept>
 #include <string>
 #include <utility>
+
+#include "odoloc/world/random.hpp"
 
 namespace odoloc::world {
 
@@ -46,31 +47,6 @@ Vec2 unit(double angle_rad) {
 double distance(Vec2 a, Vec2 b, double h) {
   return std::hypot(b.x_m - a.x_m, b.y_m - a.y_m, h);
 }
-
-// Portable random draws: std::mt19937_64's output is fixed by the standard,
-// the transforms below are ours (the standard distributions are not
-// portable). One engine per stream, seeded through std::seed_seq (also fixed
-// by the standard).
-class Random {
- public:
-  Random(std::uint64_t seed, std::uint32_t stream) {
-    std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32U),
-                      stream};
-    engine_.seed(seq);
-  }
-  double uniform() {  // [0, 1), 53 bits
-    return std::ldexp(static_cast<double>(engine_() >> 11U), -53);
-  }
-  double normal() {                     // Box-Muller, one value per call
-    const double u1 = 1.0 - uniform();  // (0, 1]
-    const double u2 = uniform();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2 * kPi * u2);
-  }
-  double exponential(double rate) { return -std::log(1.0 - uniform()) / rate; }
-
- private:
-  std::mt19937_64 engine_;
-};
 
 // Mirror images in the room's walls.
 Vec2 mirror(const Room& room, Wall wall, Vec2 p) {

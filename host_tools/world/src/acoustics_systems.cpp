@@ -99,6 +99,16 @@ AcousticWorld kleeman_world() {
   return w;
 }
 
+Obstacle direct_path_blocker(const AcousticWorld& world, Vec2 robot, std::size_t beacon,
+                             double distance_m, double radius_m) {
+  const Vec2 b = world.beacons.at(beacon).position;
+  const double dx = b.x_m - robot.x_m;
+  const double dy = b.y_m - robot.y_m;
+  const double length = std::hypot(dx, dy);
+  const Vec2 at{robot.x_m + distance_m * dx / length, robot.y_m + distance_m * dy / length};
+  return {at, at, radius_m};
+}
+
 std::vector<Beacon> thamma_stations(const Room& room, double electronics_delay_s) {
   const double w = room.width_m;
   const double d = room.depth_m;

@@ -83,6 +83,27 @@ class SequentialCordic : public Registers<SequentialCordicRegs> {
   [[nodiscard]] bool idle(const In& in) const {
     return (r_.busy | in.load | in.clear_flags | in.reset).is_zero();
   }
+
+  // Fast-forward (clocked.hpp): with no input (no LOAD, clear or reset) a
+  // busy CORDIC only rotates; skip(n), n <= rotations_left(), runs n
+  // micro-rotations in one go, the state kept in locals (eval per clock
+  // goes through the registers in memory every time).
+  [[nodiscard]] std::uint64_t rotations_left() const {
+    return r_.busy ? cordic::kIterations - r_.iteration.value() : 0;
+  }
+  void skip(std::uint64_t n) {
+    Regs next = r_;
+    std::uint64_t k = r_.iteration.value();
+    for (const std::uint64_t end = k + n; k < end; ++k)
+      next.state = cordic::iterate(next.state, UInt<4>::truncate(k));
+    next.iteration = UInt<4>::truncate(k);  // wraps to 0 after the last
+    if (k == cordic::kIterations) {
+      next.busy = UInt<1>{};
+      next.ready = UInt<1>{1};
+      next.result = cordic::finish(next.state);
+    }
+    commit(next);
+  }
 };
 
 }  // namespace odoloc::rtl

@@ -14,6 +14,12 @@ enum class Encoder : std::uint8_t { kLeftRear = 0, kRightRear = 1, kFrontDrive =
 inline constexpr std::size_t kEncoderCount = regs::eppm::kInstances;
 static_assert(kEncoderCount == 4 && regs::eppm::kInstanceNames[3] == "steering");
 
+// Encoder pins held for a number of clocks: A/B (A in bit 1), clocks >= 1.
+struct PinRun {
+  UInt<2> pins;
+  std::uint64_t clocks = 1;
+};
+
 class EncoderFabric {
  public:
   using In = std::array<EppmInputs, kEncoderCount>;
@@ -32,6 +38,26 @@ class EncoderFabric {
   void advance(std::uint64_t n, const In& in, const Config& cfg) {
     for (std::size_t w = 0; w < kEncoderCount; ++w)
       eppm_[w].advance(n, in[w], cfg[w]);
+  }
+  // n clocks in which each encoder's pins follow their own waveform and the
+  // other inputs hold: runs(w, max) returns encoder w's next PinRun, at
+  // most max clocks long. Each EPPM walks its own runs alone, a pin change
+  // costing that EPPM's events only. Returns the pins of the last clock.
+  template <class Runs>
+  std::array<UInt<2>, kEncoderCount> advance(std::uint64_t n, In in, const Config& cfg,
+                                             Runs&& runs) {
+    std::array<UInt<2>, kEncoderCount> last{};
+    for (std::size_t w = 0; w < kEncoderCount; ++w) {
+      for (std::uint64_t left = n; left != 0;) {
+        const PinRun run = runs(w, left);
+        in[w].a = run.pins.bit<1>();
+        in[w].b = run.pins.bit<0>();
+        eppm_[w].advance(run.clocks, in[w], cfg[w]);
+        left -= run.clocks;
+        last[w] = run.pins;
+      }
+    }
+    return last;
   }
   [[nodiscard]] bool idle(const In& in, const Config& cfg) const {
     for (std::size_t w = 0; w < kEncoderCount; ++w)

@@ -424,7 +424,8 @@ class Eppm {
   void step(const In& in, const Config& cfg, const Order& order = {}) {
     // Fast path: a quiet EPPM makes no step, so only the timebase moves, plus
     // the period meter on a tick. Window ends take the full path: they set a
-    // strobe that unsettles.
+    // strobe that unsettles. (Each block's own eval, never a skip rule: the
+    // cycle step is the reference fast-forward is checked against.)
     if (G == Gating::kOn && quiet(in, cfg) && !timebase_.window_end(cfg.window.clocks)) {
       const Wires settled{.filtered = conditioner_.regs().filtered,
                           .step = SInt<2>{},
@@ -445,11 +446,26 @@ class Eppm {
     settled_ = settled();
   }
   // Fast-forward (clocked.hpp): while quiet, only the timebase and the
-  // period meter's count move, until the window ends.
+  // period meter's count move, until the window ends. A pin change reaching
+  // a settled EPPM is skipped too, up to the clock before the decoder sees it
+  // (InputConditioner::held_from_settled): until then the conditioner alone
+  // differs from a quiet clock. Unless the window ends in those clocks: then
+  // every clock is stepped.
   [[nodiscard]] std::uint64_t clocks_until_event(const In& in, const Config& cfg) const {
-    return quiet(in, cfg) ? timebase_.clocks_to_window_end(cfg.window.clocks) : 0;
+    const std::uint64_t window = timebase_.clocks_to_window_end(cfg.window.clocks);
+    if (quiet(in, cfg))
+      return window;
+    if (!taking(in, cfg))
+      return 0;
+    const std::uint64_t take = QuadratureConditioner::clocks_to_take(cfg.cfg.filter_clocks);
+    return window >= take ? take : 0;
   }
   void skip(std::uint64_t n, const In& in, const Config& cfg) {
+    if (taking(in, cfg)) {
+      conditioner_.commit(conditioner_.held_from_settled(pins(in, cfg), cfg.cfg.filter_clocks, n));
+      ports_ = in;
+      settled_ = false;
+    }
     period_.skip_ticks(timebase_.skip(n, timebase_in(in, cfg)));
   }
   // n clocks with `in` held: stepped through its events, skipped between.
@@ -543,6 +559,11 @@ class Eppm {
   // decoder's prev equals the filtered level, so no step is made.
   [[nodiscard]] bool quiet(const In& in, const Config& cfg) const {
     return settled_ && pins(in, cfg) == conditioner_.regs().filtered &&
+           (in.latch_clear | in.reset).is_zero() && !any_set(in.clear);
+  }
+  // Settled, no control, and new pins: the conditioner is about to take them.
+  [[nodiscard]] bool taking(const In& in, const Config& cfg) const {
+    return settled_ && pins(in, cfg) != conditioner_.regs().filtered &&
            (in.latch_clear | in.reset).is_zero() && !any_set(in.clear);
   }
   // Every stage holds the same A/B with no filter count, no strobe is pending

@@ -69,6 +69,33 @@ class InputConditioner : public Registers<InputConditionerRegs<Lines>> {
     return in.pins == r_.sync1 && in.reset.is_zero() && settled();
   }
 
+  // Fast-forward from settled() with new pins held and no reset: the pins
+  // pass the two synchroniser flops (2 clocks), then every line that differs
+  // counts N = max(filter_clocks, 1) samples and takes the new level in the
+  // N-th, all in the same clock. clocks_to_take: N + 2; held_from_settled:
+  // the registers after k <= N + 2 of those clocks.
+  [[nodiscard]] static constexpr std::uint64_t clocks_to_take(UInt<8> filter_clocks) {
+    return (filter_clocks.is_zero() ? 1 : filter_clocks.value()) + 2;
+  }
+  [[nodiscard]] Regs held_from_settled(UInt<Lines> pins, UInt<8> filter_clocks,
+                                       std::uint64_t k) const {
+    Regs n = r_;
+    n.sync1 = pins;
+    if (k >= 2)
+      n.sync2 = pins;
+    if (k == clocks_to_take(filter_clocks)) {
+      n.filtered = pins;
+      return n;
+    }
+    if (k >= 3) {
+      const std::uint64_t changing = (pins.value() ^ r_.filtered.value());
+      for (std::size_t i = 0; i < Lines; ++i)
+        if (((changing >> i) & 1U) != 0)
+          n.stable[i] = UInt<8>::truncate(k - 2);  // k - 2 < N <= 255
+    }
+    return n;
+  }
+
  private:
   struct Line {
     UInt<1> level;

@@ -102,10 +102,22 @@ class OdolocChip {
     return fabric_.clocks_until_event(idle_fabric_in_, config_);  // reads no pin
   }
   void skip(std::uint64_t n, const In& pins) {
+    skip(n, pins, [&pins](std::size_t w, std::uint64_t clocks) {
+      return PinRun{pins.encoders[w], clocks};
+    });
+  }
+  // skip() with each encoder's pins following its own runs (runs(w, max):
+  // encoder w's next PinRun, EncoderFabric::advance) and the other pins
+  // held, n <= clocks_until_event(pins), which reads no encoder pin. The
+  // fast path for moving wheels: a pin change costs its EPPM's events only.
+  template <class Runs>
+  void skip(std::uint64_t n, const In& pins, Runs&& runs) {
     record_pins(pins);
     set_sensor_pins(idle_fabric_in_, idle_tof_in_, pins);
-    fabric_.skip(n, idle_fabric_in_, config_);
+    const auto last = fabric_.skip(n, idle_fabric_in_, config_, runs);
     tof_.advance(n, idle_tof_in_, config_);
+    for (std::size_t w = 0; w < kEncoderCount; ++w)
+      spi_pins_.encoders[w] = last[w];
   }
   // n clocks with `pins` held, bit-identical to n calls of step(pins);
   // returns how many were not stepped as a whole chip (inside them the EPPMs
@@ -126,6 +138,8 @@ class OdolocChip {
   }
 
   [[nodiscard]] UInt<1> miso() const { return spi_.regs().miso; }
+  // The pins of the last clock.
+  [[nodiscard]] const ChipPins& pins() const { return spi_pins_; }
   [[nodiscard]] const OdometryFabric& fabric() const { return fabric_; }
   [[nodiscard]] const ChipTofCapture& tof() const { return tof_; }
   [[nodiscard]] const SpiSlave& spi() const { return spi_; }

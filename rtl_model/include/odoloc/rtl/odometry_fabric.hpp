@@ -136,24 +136,17 @@ class OdometryFabric {
   }
   void skip(std::uint64_t n, const In& in, const Config& cfg) {
     encoders_.advance(n, eppm_inputs(in, UInt<1>{}), cfg.eppm);
-    while (n != 0 && !sequencer_.in(OdometryPhase::kIdle)) {
-      const std::uint64_t iterations = cordic_wait();
-      if (iterations == 0) {
-        clock_units<Gating::kOn>(wires(in, cfg), DeclarationOrder{});
-        --n;
-        continue;
-      }
-      // Only the CORDIC iterates and the period counter counts: every unit
-      // waits for RESULT_READY.
-      const std::uint64_t clocks = std::min(n, iterations);
-      for (std::uint64_t k = 0; k < clocks; ++k)
-        clock_block(cordic_, SequentialCordic::In{});
-      sequencer_.skip(clocks, sequencer_in(in, cfg));
-      n -= clocks;
-    }
-    sequencer_.skip(n, sequencer_in(in, cfg));
+    skip_units(n, in, cfg);
   }
-
+  // The same with each encoder's pins following its own runs
+  // (EncoderFabric::advance); returns the pins of the last clock.
+  template <class Runs>
+  std::array<UInt<2>, kEncoderCount> skip(std::uint64_t n, const In& in, const Config& cfg,
+                                          Runs&& runs) {
+    const auto last = encoders_.advance(n, eppm_inputs(in, UInt<1>{}), cfg.eppm, runs);
+    skip_units(n, in, cfg);
+    return last;
+  }
   [[nodiscard]] bool idle(const In& in, const Config& cfg) const {
     const Wires w = wires(in, cfg);
     return encoders_.idle(w.encoders, cfg.eppm) && sequencer_.idle(w.sequencer) &&
@@ -241,12 +234,31 @@ class OdometryFabric {
         [&] { clock_block<G>(report_, w.report); });
   }
 
+  // The clocks of skip() outside the EPPMs: an update in progress runs in
+  // the units clock by clock, the CORDIC waits as bare micro-rotations, and
+  // the period counter counts.
+  void skip_units(std::uint64_t n, const In& in, const Config& cfg) {
+    while (n != 0 && !sequencer_.in(OdometryPhase::kIdle)) {
+      const std::uint64_t iterations = cordic_wait();
+      if (iterations == 0) {
+        clock_units<Gating::kOn>(wires(in, cfg), DeclarationOrder{});
+        --n;
+        continue;
+      }
+      // Only the CORDIC iterates and the period counter counts: every unit
+      // waits for RESULT_READY.
+      const std::uint64_t clocks = std::min(n, iterations);
+      cordic_.skip(clocks);
+      sequencer_.skip(clocks, sequencer_in(in, cfg));
+      n -= clocks;
+    }
+    sequencer_.skip(n, sequencer_in(in, cfg));
+  }
   // In a CORDIC wait with the CORDIC busy: the micro-rotations left.
   [[nodiscard]] std::uint64_t cordic_wait() const {
     const bool waiting =
         sequencer_.in(OdometryPhase::kPhiWait) || sequencer_.in(OdometryPhase::kThetaWait);
-    return waiting && cordic_.regs().busy ? cordic::kIterations - cordic_.regs().iteration.value()
-                                          : 0;
+    return waiting ? cordic_.rotations_left() : 0;
   }
   // Idle phase, no reset and no odometry strobe: the CORDIC and every unit
   // are idle, the EPPMs see no latch.

@@ -31,6 +31,18 @@ class SensorStimulus {
   // unknown), and moving on by n <= hold() of them at once.
   [[nodiscard]] virtual std::uint64_t hold() const = 0;
   virtual void skip(std::uint64_t clocks) = 0;
+
+  // Optional, for moving wheels: how many of the clocks after the last
+  // tick() keep every pin but the encoders' (0: not offered). Over such a
+  // stretch, begin_encoder_runs() starts one cursor per encoder at the last
+  // tick's levels, encoder_run(w, max) returns encoder w's next run of held
+  // pins (at most max clocks, w in fabric order) and moves its cursor on,
+  // and end_encoder_runs(n) moves the whole stimulus on by the n clocks
+  // after the last tick that the runs covered.
+  [[nodiscard]] virtual std::uint64_t encoder_runs_hold() const { return 0; }
+  virtual void begin_encoder_runs() {}
+  virtual rtl::PinRun encoder_run(std::size_t /*w*/, std::uint64_t max) { return {{}, max}; }
+  virtual void end_encoder_runs(std::uint64_t /*clocks*/) {}
 };
 
 class ChipLink final : public sw::SpiLink {
@@ -102,6 +114,11 @@ class ChipLink final : public sw::SpiLink {
       std::uint64_t run = clocks;  // clocks on these pins
       if (stimulus_ != nullptr) {
         stimulus_->tick(pins_);
+        if (const std::uint64_t walked = walk_encoders(clocks)) {
+          clocks_ += walked;
+          clocks -= walked;
+          continue;
+        }
         const std::uint64_t held = std::min(clocks - 1, stimulus_->hold());
         stimulus_->skip(held);
         run = 1 + held;
@@ -137,6 +154,25 @@ class ChipLink final : public sw::SpiLink {
   }
 
  private:
+  // After a tick(): when only the encoder pins change for a while and the
+  // chip can skip, skips up to `clocks` of them walking each encoder's own
+  // runs (OdolocChip::skip with runs); returns the clocks done (0: none).
+  std::uint64_t walk_encoders(std::uint64_t clocks) {
+    const std::uint64_t hold = stimulus_->encoder_runs_hold();
+    if (hold == 0)
+      return 0;
+    const std::uint64_t n = std::min({clocks, 1 + hold, chip_.clocks_until_event(pins_)});
+    if (n < 2)
+      return 0;
+    stimulus_->begin_encoder_runs();
+    chip_.skip(n, pins_,
+               [this](std::size_t w, std::uint64_t max) { return stimulus_->encoder_run(w, max); });
+    stimulus_->end_encoder_runs(n - 1);
+    pins_.encoders = chip_.pins().encoders;
+    skipped_ += n;
+    return n;
+  }
+
   // A per-clock function as a stimulus that never knows how long it holds.
   class PerClock final : public SensorStimulus {
    public:

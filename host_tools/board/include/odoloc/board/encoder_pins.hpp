@@ -44,8 +44,7 @@ constexpr EncoderPins encoder_pins(world::QuadratureLevels levels) {
 constexpr void drive_encoder_pins(
     ChipEncoderPins& pins,
     const std::array<world::QuadratureLevels, world::kEncoderCount>& levels) {
-  for (const world::Encoder e : {world::Encoder::kLeftRear, world::Encoder::kRightRear,
-                                 world::Encoder::kFrontDrive, world::Encoder::kSteering})
+  for (const world::Encoder e : world::kEncoders)
     pins[static_cast<std::size_t>(fabric_input(e))] = encoder_pins(levels[world::index(e)]);
 }
 

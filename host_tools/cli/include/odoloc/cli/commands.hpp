@@ -16,6 +16,7 @@
 #include "odoloc/cli/export_hls.hpp"
 #include "odoloc/cli/locate.hpp"
 #include "odoloc/cli/names.hpp"
+#include "odoloc/cli/sweep.hpp"
 #include "odoloc/cli/target.hpp"
 
 namespace odoloc::cli {
@@ -55,7 +56,8 @@ struct ScriptCommand {
   std::string file;  // "-": standard input
 };
 using Command = std::variant<ListCommand, ReadCommand, WriteCommand, DumpCommand, WatchCommand,
-                             WaitCommand, ScriptCommand, LocateCommand, ExportHlsCommand>;
+                             WaitCommand, ScriptCommand, LocateCommand, ExportHlsCommand,
+                             SweepRunCommand, SweepMergeCommand>;
 
 // One command line (the words after "odoloc").
 struct Invocation {

@@ -63,6 +63,14 @@ std::vector<Beacon> kleeman_beacons(const Room& room);
 std::vector<Receiver> kleeman_octagon(Vec2 centre = {}, double side_m = 0.05);
 // Room, beacons and octagon at the robot's reference point.
 AcousticWorld kleeman_world();
+// An obstacle that hides beacon `beacon`'s direct path from a robot at
+// `robot` (world frame): a disc of radius_m on the line of sight, distance_m
+// from the robot, wide enough to shadow a receiver array of Kleeman's
+// octagon's size. The first wavefront the robot hears from that beacon is
+// then a wall echo, or nothing. Throws std::out_of_range for a beacon the
+// world does not have.
+Obstacle direct_path_blocker(const AcousticWorld& world, Vec2 robot, std::size_t beacon,
+                             double distance_m = 0.4, double radius_m = 0.1);
 
 // Thamma: four base stations at the room's corners (5 cm in), each a pair of
 // transducers 120 degrees apart aimed about the diagonal; stations 0, 1 (at

@@ -26,6 +26,8 @@ namespace odoloc::world {
 // index(Encoder).
 enum class Encoder : std::uint8_t { kLeftRear, kRightRear, kFrontDrive, kSteering };
 inline constexpr std::size_t kEncoderCount = 4;
+inline constexpr std::array<Encoder, kEncoderCount> kEncoders = {
+    Encoder::kLeftRear, Encoder::kRightRear, Encoder::kFrontDrive, Encoder::kSteering};
 
 // The three rolling wheels, the only places a bump or slip can act: the
 // steering encoder is not a wheel. Each wheel's encoder is encoder(Wheel).
@@ -205,13 +207,19 @@ class TricycleSimulator {
   // last one (0: the next one may change them or runs the physics), and
   // skipping n <= hold_ticks() of them at once.
   [[nodiscard]] std::uint64_t hold_ticks() const {
-    if (clock_in_step_ == 0)
-      return 0;
-    std::uint64_t hold = options_.clocks_per_step - clock_in_step_;
+    std::uint64_t hold = ticks_to_step_end();
     for (const QuadratureSource& s : sources_)
       hold = std::min(hold, s.ticks_to_next_edge() - 1);
     return hold;
   }
+  // For walking the encoders one by one over a stretch: how many of the
+  // next ticks stay inside the current physics step (0 at a step boundary:
+  // the next tick runs the physics), over which encoder e's levels are those
+  // of a copy of source(e) ticked along.
+  [[nodiscard]] std::uint64_t ticks_to_step_end() const {
+    return clock_in_step_ == 0 ? 0 : options_.clocks_per_step - clock_in_step_;
+  }
+  [[nodiscard]] const QuadratureSource& source(Encoder e) const { return sources_[index(e)]; }
   void skip(std::uint64_t ticks) {
     clock_in_step_ += static_cast<std::uint32_t>(ticks);
     if (clock_in_step_ == options_.clocks_per_step)

@@ -1,0 +1,84 @@
+#include "odoloc/cli/sweep.hpp"
+
+#include <fmt/format.h>
+
+#include <nlohmann/json.hpp>
+#include <ostream>
+
+#include "odoloc/cli/errors.hpp"
+#include "odoloc/sweep/error.hpp"
+#include "odoloc/sweep/merge.hpp"
+#include "odoloc/sweep/shard_file.hpp"
+
+namespace odoloc::cli {
+namespace {
+
+// The library's one error kind as the tool's: exit 2 for the input, 1 for
+// a failed write.
+template <class F>
+auto translated(F&& body) {
+  try {
+    return body();
+  } catch (const sweep::SweepError& e) {
+    if (e.usage())
+      throw UsageError(e.what());
+    throw FileError(e.what());
+  }
+}
+
+}  // namespace
+
+sweep::Shard parse_shard_option(const std::string& text) {
+  return translated([&] { return sweep::parse_shard(text); });
+}
+
+void run_sweep_run(const SweepRunCommand& command, std::ostream& out, bool json,
+                   const std::atomic<bool>* stop) {
+  const sweep::Spec spec = translated([&] { return sweep::load_spec(command.spec); });
+  const std::uint64_t jobs = translated([&] {
+    return sweep::run_shard(spec, command.shard, command.out, [stop] {
+      if (stop != nullptr && stop->load())
+        throw Interrupted();
+    });
+  });
+  const std::string hash = sweep::spec_hash(spec);
+  if (json) {
+    out << nlohmann::json{{"file", command.out},       {"sweep", spec.name},
+                          {"spec_hash", hash},         {"shard", command.shard.k},
+                          {"shards", command.shard.n}, {"jobs", jobs},
+                          {"total_jobs", spec.jobs()}}
+               .dump()
+        << '\n';
+    return;
+  }
+  out << fmt::format("{}: shard {}/{} of sweep {} (spec {}): {} of {} jobs\n", command.out,
+                     command.shard.k, command.shard.n, spec.name, hash, jobs, spec.jobs());
+}
+
+void run_sweep_merge(const SweepMergeCommand& command, std::ostream& out, bool json) {
+  const sweep::MergedSweep merged = translated([&] {
+    std::vector<sweep::ShardFile> files;
+    for (const std::string& f : command.files)
+      files.push_back(sweep::load_shard_file(f));
+    return sweep::merge(std::move(files));
+  });
+  const std::vector<std::filesystem::path> written =
+      translated([&] { return sweep::write_merged(merged, command.out, command.plot); });
+  std::vector<std::string> names;
+  for (const std::filesystem::path& p : written)
+    names.push_back(p.filename().string());
+  if (json) {
+    out << nlohmann::json{{"folder", command.out},
+                          {"files", names},
+                          {"sweep", merged.spec.name},
+                          {"spec_hash", merged.hash},
+                          {"jobs", merged.jobs.size()}}
+               .dump()
+        << '\n';
+    return;
+  }
+  out << fmt::format("{}: {} jobs of sweep {} (spec {}): {}\n", command.out, merged.jobs.size(),
+                     merged.spec.name, merged.hash, fmt::join(names, " "));
+}
+
+}  // namespace odoloc::cli
