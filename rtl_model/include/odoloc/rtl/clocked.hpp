@@ -62,9 +62,7 @@ template <HasFields R>
 class Registers {
  public:
   using Regs = R;
-  void commit(const Regs& next) {
-    assign_field(r_, next);  // member by member: fields.hpp
-  }
+  void commit(const Regs& next) { r_ = next; }
   void reset_now() { r_ = Regs{}; }
   [[nodiscard]] const Regs& regs() const { return r_; }
   template <class V>

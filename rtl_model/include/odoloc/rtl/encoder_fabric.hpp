@@ -33,12 +33,6 @@ class EncoderFabric {
     }
     (std::make_index_sequence<kEncoderCount>{});
   }
-  // n clocks with `in` held (clocked.hpp): the EPPMs share no signal, so
-  // each one steps through its own events and skips between them.
-  void advance(std::uint64_t n, const In& in, const Config& cfg) {
-    for (std::size_t w = 0; w < kEncoderCount; ++w)
-      eppm_[w].advance(n, in[w], cfg[w]);
-  }
   // n clocks in which each encoder's pins follow their own waveform and the
   // other inputs hold: runs(w, max) returns encoder w's next PinRun, at
   // most max clocks long. Each EPPM walks its own runs alone, a pin change

@@ -558,13 +558,15 @@ class Eppm {
   // Settled after the last full clock, the pins unchanged and no control: the
   // decoder's prev equals the filtered level, so no step is made.
   [[nodiscard]] bool quiet(const In& in, const Config& cfg) const {
-    return settled_ && pins(in, cfg) == conditioner_.regs().filtered &&
-           (in.latch_clear | in.reset).is_zero() && !any_set(in.clear);
+    return calm(in) && pins(in, cfg) == conditioner_.regs().filtered;
   }
-  // Settled, no control, and new pins: the conditioner is about to take them.
+  // Calm with new pins: the conditioner is about to take them.
   [[nodiscard]] bool taking(const In& in, const Config& cfg) const {
-    return settled_ && pins(in, cfg) != conditioner_.regs().filtered &&
-           (in.latch_clear | in.reset).is_zero() && !any_set(in.clear);
+    return calm(in) && pins(in, cfg) != conditioner_.regs().filtered;
+  }
+  // Settled after the last clock, and no control in this one.
+  [[nodiscard]] bool calm(const In& in) const {
+    return settled_ && (in.latch_clear | in.reset).is_zero() && !any_set(in.clear);
   }
   // Every stage holds the same A/B with no filter count, no strobe is pending
   // and the last clock carried no control: nothing but the timebase can move

@@ -19,7 +19,6 @@
 #include <cstddef>
 #include <string_view>
 #include <tuple>
-#include <type_traits>
 
 #include "odoloc/rtl/bits.hpp"
 
@@ -49,23 +48,17 @@
   , ODOLOC_BINDING_NAME(first) __VA_OPT__(ODOLOC_BINDINGS_AGAIN ODOLOC_PARENS(__VA_ARGS__))
 #define ODOLOC_BINDINGS_AGAIN() ODOLOC_BINDINGS_REST
 
-#define ODOLOC_FIELDS(...)                                                                       \
-  template <class F>                                                                             \
-  constexpr void for_each_field(F&& f) const {                                                   \
-    ODOLOC_FOR_EACH(ODOLOC_VISIT_FIELD, __VA_ARGS__)                                             \
-  }                                                                                              \
-  /* Does not compile unless the list names every member, in order. */                           \
-  void odoloc_fields_are_complete() const {                                                      \
-    [[maybe_unused]] const auto& [ODOLOC_BINDINGS(__VA_ARGS__)] = *this;                         \
-  }                                                                                              \
-  static constexpr std::size_t kFieldCount = std::array{ODOLOC_FIELD_NAMES(__VA_ARGS__)}.size(); \
-  /* Member by member (Registers::commit): see assign_field. */                                  \
-  template <class S>                                                                             \
-  constexpr void assign_fields(const S& other) {                                                 \
-    ODOLOC_FOR_EACH(ODOLOC_ASSIGN_FIELD, __VA_ARGS__)                                            \
-  }
+#define ODOLOC_FIELDS(...)                                               \
+  template <class F>                                                     \
+  constexpr void for_each_field(F&& f) const {                           \
+    ODOLOC_FOR_EACH(ODOLOC_VISIT_FIELD, __VA_ARGS__)                     \
+  }                                                                      \
+  /* Does not compile unless the list names every member, in order. */   \
+  void odoloc_fields_are_complete() const {                              \
+    [[maybe_unused]] const auto& [ODOLOC_BINDINGS(__VA_ARGS__)] = *this; \
+  }                                                                      \
+  static constexpr std::size_t kFieldCount = std::array{ODOLOC_FIELD_NAMES(__VA_ARGS__)}.size();
 
-#define ODOLOC_ASSIGN_FIELD(name) ::odoloc::rtl::assign_field(name, other.name);
 #define ODOLOC_FIELD_NAME(name) std::string_view{#name},
 #define ODOLOC_FIELD_NAMES(...) ODOLOC_FOR_EACH(ODOLOC_FIELD_NAME, __VA_ARGS__)
 
@@ -84,26 +77,6 @@ concept HasFreeFields = requires(const S& s) {
 };
 template <class S>
 concept HasFields = HasMemberFields<S> || HasFreeFields<S>;
-
-// Copies one member, arrays element by element and field-listed structs
-// member by member. A next state that eval assembled byte by byte is then
-// read back byte by byte: one wide copy of it would wait for every narrow
-// store to retire (a store-forwarding stall of some 12 cycles per commit).
-template <class T>
-constexpr void assign_field(T& to, const T& from) {
-  if constexpr (requires { to.assign_fields(from); }) {
-    to.assign_fields(from);
-  } else if constexpr (std::is_array_v<T>) {
-    for (std::size_t i = 0; i < std::extent_v<T>; ++i)
-      assign_field(to[i], from[i]);
-  } else if constexpr (
-      requires { std::tuple_size<T>::value; } && requires { to[0]; }) {
-    for (std::size_t i = 0; i < std::tuple_size_v<T>; ++i)
-      assign_field(to[i], from[i]);
-  } else {
-    to = from;
-  }
-}
 
 template <HasFields S, class F>
 constexpr void visit_fields(const S& s, F&& f) {

@@ -135,11 +135,13 @@ class OdometryFabric {
     return sequencer_.clocks_to_period_end(cfg.odometry.cfg.update_clocks);
   }
   void skip(std::uint64_t n, const In& in, const Config& cfg) {
-    encoders_.advance(n, eppm_inputs(in, UInt<1>{}), cfg.eppm);
-    skip_units(n, in, cfg);
+    skip(n, in, cfg, [&in](std::size_t w, std::uint64_t clocks) {
+      return PinRun{in.pins[w], clocks};
+    });
   }
   // The same with each encoder's pins following its own runs
-  // (EncoderFabric::advance); returns the pins of the last clock.
+  // (EncoderFabric::advance; the EPPMs share no signal, so each steps
+  // through its own events alone); returns the pins of the last clock.
   template <class Runs>
   std::array<UInt<2>, kEncoderCount> skip(std::uint64_t n, const In& in, const Config& cfg,
                                           Runs&& runs) {
