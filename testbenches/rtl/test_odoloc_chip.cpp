@@ -477,7 +477,7 @@ TEST(OdolocChip, GatedAndUngatedChipsAgree) {
     gated.step<odoloc::rtl::Gating::kOn>(pins);
     full.step<odoloc::rtl::Gating::kOff>(pins);
     ++clocks;
-    EXPECT_EQ(gated.spi().regs(), full.spi().regs()) << clocks;
+    EXPECT_TRUE(gated.spi() == full.spi()) << clocks;
     EXPECT_EQ(gated.registers().regs(), full.registers().regs()) << clocks;
     for (const regs::Register& r : regs::kRegisters) {
       const auto a = UInt<10>::truncate(r.address);

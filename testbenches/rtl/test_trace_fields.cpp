@@ -78,7 +78,9 @@ TEST(TraceFields, EveryLeafTracesExactlyItsRegisterStruct) {
   expect_trace_is_field_list(PoseIntegrator{}, "PoseIntegrator");
   expect_trace_is_field_list(OdometryReport{}, "OdometryReport");
   expect_trace_is_field_list(OdometrySequencer{}, "OdometrySequencer");
-  expect_trace_is_field_list(SpiSlave{}, "SpiSlave");
+  expect_trace_is_field_list(odoloc::rtl::SpiSynchroniser{}, "SpiSynchroniser");
+  expect_trace_is_field_list(odoloc::rtl::SpiEngine{}, "SpiEngine");
+  expect_trace_is_field_list(odoloc::rtl::SpiWriteBuffer{}, "SpiWriteBuffer");
   expect_trace_is_field_list(FabricRegisters{}, "FabricRegisters");
   expect_trace_is_field_list(InputConditioner<9>{}, "InputConditioner<9>");
   expect_trace_is_field_list(odoloc::rtl::TofTimebase{}, "TofTimebase");
@@ -100,7 +102,9 @@ TEST(TraceFields, ListedMembersAreDistinctAndInDeclarationOrder) {
   expect_members_in_order<PoseIntegratorRegs>("PoseIntegratorRegs");
   expect_members_in_order<OdometryReportRegs>("OdometryReportRegs");
   expect_members_in_order<OdometrySequencerRegs>("OdometrySequencerRegs");
-  expect_members_in_order<SpiSlaveRegs>("SpiSlaveRegs");
+  expect_members_in_order<odoloc::rtl::SpiSynchroniserRegs>("SpiSynchroniserRegs");
+  expect_members_in_order<odoloc::rtl::SpiEngineRegs>("SpiEngineRegs");
+  expect_members_in_order<odoloc::rtl::SpiWriteBufferRegs>("SpiWriteBufferRegs");
   expect_members_in_order<FabricRegistersRegs>("FabricRegistersRegs");
   expect_members_in_order<odoloc::rtl::TofTimebaseRegs>("TofTimebaseRegs");
   expect_members_in_order<odoloc::rtl::TofChannelRegs<16>>("TofChannelRegs<16>");
@@ -120,7 +124,9 @@ TEST(TraceFields, ChipWaveformDeclaresEveryRegister) {
   // encoders, comparators, tof_sync, sclk, cs_n, mosi, reset; miso
   std::size_t expected = ChipPins{}.encoders.size() + 6 + 1;
   FieldWalk walk;
-  walk.walk("", chip.spi().regs());
+  walk.walk("", chip.spi().synchroniser());
+  walk.walk("", chip.spi().engine());
+  walk.walk("", chip.spi().buffer());
   walk.walk("", chip.registers().regs());
   expected += walk.paths.size();
   for (std::size_t w = 0; w < kEncoderCount; ++w) {
@@ -159,8 +165,8 @@ TEST(TraceFields, ChipWaveformDeclaresEveryRegister) {
   const auto has = [&](const std::string& name) {
     return std::find(dump.names.begin(), dump.names.end(), name) != dump.names.end();
   };
-  EXPECT_TRUE(has("spi.words.31"));
-  EXPECT_TRUE(has("spi.frame_end"));
+  EXPECT_TRUE(has("spi.buffer.words.31"));
+  EXPECT_TRUE(has("spi.engine.frame_end"));
   EXPECT_TRUE(has("registers.stored.0"));
   EXPECT_TRUE(has("registers.snapshot.0"));
   EXPECT_TRUE(has("registers.pulses.odometry.command.set_pose"));

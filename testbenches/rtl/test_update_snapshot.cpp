@@ -83,7 +83,7 @@ TEST(UpdateSnapshot, AnUpdatesResultsChangeTogetherAndAReadNeverMixesUpdates) {
     pins.sclk = sclk;
     pins.cs_n = cs_n;
     pins.mosi = mosi;
-    if (chip.spi().regs().snapshot)  // this clock's registers are what the bank captures
+    if (chip.spi().engine().snapshot)  // this clock's registers are what the bank captures
       snapshot_phases.insert(chip.fabric().sequencer().period_count.value());
     chip.step(pins);
     const Results now = fabric_results(chip);

@@ -221,7 +221,7 @@ class RegfileReference final : public Reference {
       set_status(in.subspan(kStatus, status_regs_.size()));
       transfer(in, out);
     }
-    out[kFrameStatus] = static_cast<std::int64_t>(spi_.regs().status.value());
+    out[kFrameStatus] = static_cast<std::int64_t>(spi_.engine().status.value());
     out[kSpiStatus] = static_cast<std::int64_t>(registers_.regs().spi_status.value());
     out[kFrameErrors] = static_cast<std::int64_t>(registers_.regs().frame_errors.value());
     std::size_t o = kConfig;
@@ -309,8 +309,8 @@ class RegfileReference final : public Reference {
     // register file keeps its registers and drives nothing (the chip's
     // quiet path, FabricRegisters::quiet).
     if (registers_.quiet(spi_.strobing(), reset)) {
-      rtl::clock_block(spi_, spi_in);
-      return spi_.regs().miso;
+      spi_.step(spi_in);
+      return spi_.miso();
     }
     const rtl::SpiRegisterPort port = spi_.port();
     const UInt<32> read_data =
@@ -321,12 +321,12 @@ class RegfileReference final : public Reference {
     const rtl::FabricRegisters::In reg_in{
         .spi = port, .read_data = read_data, .status = fabric_status_, .reset = reset};
     registers_.commit(registers_.eval(reg_in));
-    rtl::clock_block(spi_, spi_in);
+    spi_.step(spi_in);
     if (writes || reset == UInt<1>{1})
       config_ = registers_.config();
     if (registers_.regs().pulsing == UInt<1>{1})
       collect_pulses(registers_.regs().pulses);
-    return spi_.regs().miso;
+    return spi_.miso();
   }
 
   void transfer(std::span<const std::int64_t> in, std::span<std::int64_t> out) {

@@ -27,7 +27,7 @@
 //                      them too (don't care, but the CRC covers them)
 //   crc [8]            the MOSI byte after the last word (the frame's CRC-8 when
 //                      top.ctrl.crc_enable was set at cs_n fall)
-//   bits [11]          SCLK rising edges the slave saw (rtl::SpiSlaveRegs::
+//   bits [11]          SCLK rising edges the slave saw (rtl::SpiEngineRegs::
 //                      rx_count): 16 + 32n (+ 8 with CRC) for a good frame, fewer
 //                      for a chip select raised early, more for one held too long
 //   overrun [1]        an SCLK level (or cs_n low before the first edge) lasted
@@ -121,9 +121,9 @@ static_assert(kWordBits == 32, "the kernel's words are 32 bits");
 using Command = uint<kHeaderBits>;
 using Address = uint<kAddressBits>;
 using Burst = uint<kBurstBits + 1>;  // 1..kMaxBurst words
-using BitCount = uint<11>;           // rtl::SpiSlaveRegs::rx_count (saturates at 2047)
+using BitCount = uint<11>;           // rtl::SpiEngineRegs::rx_count (saturates at 2047)
 using Crc = uint<kCrcBits>;
-using Flags = uint<4>;  // rtl::SpiSlaveRegs::status, FabricRegistersRegs::spi_status
+using Flags = uint<4>;  // rtl::SpiEngineRegs::status, FabricRegistersRegs::spi_status
 using ErrorCount = uint<map::top::frame_errors::count.width>;
 static_assert(kHeaderBits + kWordBits * kMaxBurst + kCrcBits < (1 << 11), "bits holds a frame");
 
@@ -260,7 +260,7 @@ stored_reset_loop:
 
 struct Registers {
   StoredWords stored = stored_resets();  // rw bits of the rw registers
-  Flags status = 0;                      // the last frame's flags (rtl::SpiSlaveRegs::status)
+  Flags status = 0;                      // the last frame's flags (rtl::SpiEngineRegs::status)
   Flags spi_status = 0;                  // top.spi_status, sticky
   ErrorCount frame_errors = 0;           // top.frame_errors, saturating
 };
@@ -426,7 +426,7 @@ inline uint<kWordBits> read_word(const Registers& r, const Inputs& in, Address a
   return (rw & d.rw_mask) | (d.reset & d.const_mask) | hw;
 }
 
-// The MOSI side: command, length and CRC checks (rtl::SpiSlave::end_frame).
+// The MOSI side: command, length and CRC checks (rtl::SpiEngine::end_frame).
 inline Frame receive(const Registers& r, const Inputs& in) {
 #pragma HLS inline
   Frame f;
@@ -456,7 +456,7 @@ mosi_crc_loop:
 
 // The MISO side, from the registers as the frame found them: the status byte,
 // the words read (in order, each fetched just before it shifts out) and the
-// CRC over them (rtl::SpiSlave::drive_next_bit).
+// CRC over them (rtl::SpiEngine::drive_next_bit).
 inline void respond(const Registers& r, const Inputs& in, const Frame& f, Outputs& o) {
 #pragma HLS inline
   const int received = static_cast<int>(to_s64(in.bits));

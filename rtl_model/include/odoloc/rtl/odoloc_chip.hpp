@@ -85,7 +85,7 @@ class OdolocChip {
       const SpiSlave::In spi_in = quiet_spi_in(pins);
       order([&] { fabric_.step<G>(idle_fabric_in_, config_, order); },
             [&] { tof_.step_pins<G>(idle_tof_in_, config_, order); },
-            [&] { clock_block<G>(spi_, spi_in); });
+            [&] { spi_.step<G>(spi_in, order); });
       return;
     }
     step_all<G>(pins, order);
@@ -97,9 +97,9 @@ class OdolocChip {
   // period ends. In between, the capture unit and the fabric's EPPMs share
   // no signal with anything, so each advances on its own through its events.
   [[nodiscard]] std::uint64_t clocks_until_event(const In& pins) const {
-    if (!registers_.quiet(spi_.strobing(), pins.reset) || !spi_.idle(quiet_spi_in(pins)))
+    if (!bus_quiet(pins) || !spi_.idle(quiet_spi_in(pins)))
       return 0;
-    return fabric_.clocks_until_event(idle_fabric_in_, config_);  // reads no pin
+    return sensor_clocks_until_event();
   }
   void skip(std::uint64_t n, const In& pins) {
     skip(n, pins, [&pins](std::size_t w, std::uint64_t clocks) {
@@ -110,9 +110,11 @@ class OdolocChip {
   // encoder w's next PinRun, EncoderFabric::advance) and the other pins
   // held, n <= clocks_until_event(pins), which reads no encoder pin. The
   // fast path for moving wheels: a pin change costs its EPPM's events only.
+  // It moves the sensor side only (the bus side is idle), so behind a frame
+  // (step_bus) n <= sensor_clocks_until_event() suffices.
   template <class Runs>
   void skip(std::uint64_t n, const In& pins, Runs&& runs) {
-    record_pins(pins);
+    record_sensor_pins(pins);
     set_sensor_pins(idle_fabric_in_, idle_tof_in_, pins);
     const auto last = fabric_.skip(n, idle_fabric_in_, config_, runs);
     tof_.advance(n, idle_tof_in_, config_);
@@ -129,6 +131,35 @@ class OdolocChip {
            registers_.idle(w.registers);
   }
 
+  // ---- the sensor side behind the bus side (fast-forward inside frames) ----
+  // While the register file is quiet (bus_quiet: no slave strobe, no pulse
+  // pending, no reset), the fabric and the capture unit share no signal with
+  // the SPI slave. The clocks of a frame can then clock the slave alone
+  // (step_bus) and bring the sensor side up by as many clocks later
+  // (advance_sensors, or skip with runs), before the first clock that is not
+  // quiet: bit-identical to stepping, because the bus side reads the sensor
+  // side (the snapshot, a read) and writes it (pulses, configuration) only in
+  // such a clock.
+  [[nodiscard]] bool bus_quiet(const In& pins) const {
+    return registers_.quiet(spi_.strobing(), pins.reset);
+  }
+  // One clock of the SPI slave alone, bus_quiet(pins); the sensor side is
+  // then one more clock behind.
+  void step_bus(const In& pins) {
+    record_spi_pins(pins);
+    spi_.step(quiet_spi_in(pins));
+  }
+  // How many of the next clocks the sensor side can skip (reads no pin).
+  [[nodiscard]] std::uint64_t sensor_clocks_until_event() const {
+    return fabric_.clocks_until_event(idle_fabric_in_, config_);
+  }
+  // n clocks of the sensor side alone with `pins` held, bit-identical to
+  // n quiet steps of it; returns how many were skipped.
+  std::uint64_t advance_sensors(std::uint64_t n, const In& pins) {
+    SensorSide sensors{*this};
+    return fast_forward(sensors, n, pins);
+  }
+
   void reset_now() {
     fabric_.reset_now();
     tof_.reset_now();
@@ -137,7 +168,7 @@ class OdolocChip {
     config_ = registers_.config();
   }
 
-  [[nodiscard]] UInt<1> miso() const { return spi_.regs().miso; }
+  [[nodiscard]] UInt<1> miso() const { return spi_.miso(); }
   // The pins of the last clock.
   [[nodiscard]] const ChipPins& pins() const { return spi_pins_; }
   [[nodiscard]] const OdometryFabric& fabric() const { return fabric_; }
@@ -179,15 +210,38 @@ class OdolocChip {
   // Field by field: testbenches set the pins one field at a time just before
   // the clock, and one wide copy of them would stall on store forwarding.
   void record_pins(const ChipPins& pins) {
+    record_sensor_pins(pins);
+    record_spi_pins(pins);
+  }
+  void record_sensor_pins(const ChipPins& pins) {
     for (std::size_t w = 0; w < kEncoderCount; ++w)
       spi_pins_.encoders[w] = pins.encoders[w];
     spi_pins_.comparators = pins.comparators;
     spi_pins_.tof_sync = pins.tof_sync;
+  }
+  void record_spi_pins(const ChipPins& pins) {
     spi_pins_.sclk = pins.sclk;
     spi_pins_.cs_n = pins.cs_n;
     spi_pins_.mosi = pins.mosi;
     spi_pins_.reset = pins.reset;
   }
+
+  // The fabric and the capture unit on quiet clocks, as a block of their
+  // own for fast_forward (advance_sensors).
+  struct SensorSide {
+    using In = ChipPins;
+    OdolocChip& chip;
+    [[nodiscard]] std::uint64_t clocks_until_event(const In& /*pins*/) const {
+      return chip.sensor_clocks_until_event();
+    }
+    void step(const In& pins) {
+      chip.record_sensor_pins(pins);
+      set_sensor_pins(chip.idle_fabric_in_, chip.idle_tof_in_, pins);
+      chip.fabric_.step(chip.idle_fabric_in_, chip.config_);
+      chip.tof_.step_pins(chip.idle_tof_in_, chip.config_);
+    }
+    void skip(std::uint64_t n, const In& pins) { chip.skip(n, pins); }
+  };
 
   // A clock with a strobe or pulse: out of line, so the quiet clocks do not
   // pay for its large frame (the wires carry the whole status).
@@ -196,7 +250,7 @@ class OdolocChip {
     const Wires w = wires(pins);
     const bool writes = (w.registers.spi.commit & w.registers.spi.commit_write) == UInt<1>{1};
     order([&] { fabric_.step<G>(w.fabric, config_, order); },
-          [&] { tof_.step<G>(w.tof, config_, order); }, [&] { clock_block<G>(spi_, w.spi); },
+          [&] { tof_.step<G>(w.tof, config_, order); }, [&] { spi_.step<G>(w.spi, order); },
           [&] { clock_block<G>(registers_, w.registers); });
     if (writes || pins.reset)  // the configuration ports decode the stored words
       config_ = registers_.config();

@@ -42,7 +42,7 @@
 //   commit,        one clock, in the clock the cs_n rise is seen, only for a
 //   commit_write,  frame of exactly the expected length with no overrun and
 //   commit_address,(writes with CRC on) a good CRC. commit_write = 1: the words
-//   commit_count   are regs().words[0..commit_count-1], for commit_address
+//   commit_count   are the write buffer's words[0..commit_count-1], for commit_address
 //                  onwards; commit_write = 0: a read frame completed (e.g. for
 //                  read-to-clear registers).
 //   frame_end      one clock, at every seen cs_n rise of a frame; `status`
@@ -86,22 +86,85 @@ constexpr std::uint8_t crc8_j1850(std::span<const std::uint8_t> bytes) {
 
 inline constexpr unsigned kSpiMaxBurst = regs::spi::kMaxBurst;
 
-struct SpiSlaveRegs {
+// ---- pin synchroniser ---------------------------------------------------------
+// The two synchroniser flops of each pin, the previous synchronised SCLK and
+// cs_n (edge detection) and the clocks since the last SCLK edge. Clocked every
+// clock; the protocol engine sees its edges (Seen) and moves only on them.
+struct SpiSynchroniserRegs {
   UInt<1> sclk_meta, sclk_sync, sclk_prev;
   UInt<1> cs_meta, cs_sync, cs_prev;
   UInt<1> mosi_meta, mosi_sync;
-  UInt<1> active;        // between a seen cs_n fall and rise
-  UInt<1> crc_on;        // crc_enable latched at cs_n fall
-  UInt<1> fall_armed;    // 0 in mode 3 until the first falling edge
-  UInt<3> level_clocks;  // clocks since the last SCLK edge (or cs_n fall), saturating
+  UInt<3> level_clocks;  // clocks since the last SCLK edge of a frame (or cs_n fall), saturating
+  bool operator==(const SpiSynchroniserRegs&) const = default;
+  ODOLOC_FIELDS(sclk_meta, sclk_sync, sclk_prev, cs_meta, cs_sync, cs_prev, mosi_meta, mosi_sync,
+                level_clocks)
+};
+
+class SpiSynchroniser : public Registers<SpiSynchroniserRegs> {
+ public:
+  struct In {
+    UInt<1> sclk, cs_n, mosi;  // pins, asynchronous
+    UInt<1> active;            // the engine is in a frame: its SCLK edges restart level_clocks
+    UInt<1> reset;
+  };
+  // What the engine sees in this clock, from the current registers.
+  struct Seen {
+    bool cs_fall, cs_rise;  // cs_n edges
+    bool rise, fall;        // SCLK edges
+    UInt<1> mosi;
+    UInt<3> level_clocks;
+  };
+  [[nodiscard]] Seen seen() const {
+    return {.cs_fall = !r_.cs_sync && r_.cs_prev,
+            .cs_rise = r_.cs_sync && !r_.cs_prev,
+            .rise = r_.sclk_sync && !r_.sclk_prev,
+            .fall = !r_.sclk_sync && r_.sclk_prev,
+            .mosi = r_.mosi_sync,
+            .level_clocks = r_.level_clocks};
+  }
+
+  [[nodiscard]] Regs eval(const In& in) const {
+    if (in.reset)
+      return Regs{};
+    const Seen s = seen();
+    const bool restart = s.cs_fall || (in.active && (s.rise || s.fall));
+    return {.sclk_meta = in.sclk,
+            .sclk_sync = r_.sclk_meta,
+            .sclk_prev = r_.sclk_sync,
+            .cs_meta = in.cs_n,
+            .cs_sync = r_.cs_meta,
+            .cs_prev = r_.cs_sync,
+            .mosi_meta = in.mosi,
+            .mosi_sync = r_.mosi_meta,
+            .level_clocks = restart ? UInt<3>{1} : (r_.level_clocks + UInt<1>{1}).sat<3>()};
+  }
+  // Every pin held through both flops, no edge pending, the level count saturated.
+  [[nodiscard]] bool idle(const In& in) const {
+    const auto held = [](UInt<1> pin, UInt<1> meta, UInt<1> sync) {
+      return pin == meta && meta == sync;
+    };
+    return in.reset.is_zero() && held(in.sclk, r_.sclk_meta, r_.sclk_sync) &&
+           r_.sclk_sync == r_.sclk_prev && held(in.cs_n, r_.cs_meta, r_.cs_sync) &&
+           r_.cs_sync == r_.cs_prev && held(in.mosi, r_.mosi_meta, r_.mosi_sync) &&
+           r_.level_clocks.value() == UInt<3>::max_value;
+  }
+};
+
+// ---- protocol engine ------------------------------------------------------------
+// The frame state, the shift registers, the CRCs and every output to the
+// register side. Moves only on a seen edge, a strobe to clear, a read word to
+// latch or a refused write: between SCLK edges it is idle.
+struct SpiEngineRegs {
+  UInt<1> active;      // between a seen cs_n fall and rise
+  UInt<1> crc_on;      // crc_enable latched at cs_n fall
+  UInt<1> fall_armed;  // 0 in mode 3 until the first falling edge
   UInt<1> frame_overrun;
   UInt<11> rx_count;  // rising edges in this frame, saturating
   UInt<32> rx_shift;
   UInt<8> rx_crc;
   UInt<16> command;
-  std::array<UInt<32>, kSpiMaxBurst> words;  // write data, valid while commit is high
-  UInt<11> tx_count;                         // index of the MISO bit on the pin, saturating
-  UInt<32> tx_shift;                         // the bits after it
+  UInt<11> tx_count;  // index of the MISO bit on the pin, saturating
+  UInt<32> tx_shift;  // the bits after it
   UInt<8> tx_crc;
   UInt<32> read_word;  // the next word to shift out, fetched ahead
   // outputs
@@ -114,30 +177,41 @@ struct SpiSlaveRegs {
   UInt<10> commit_address;
   UInt<6> commit_count;
   UInt<4> status;
-  bool operator==(const SpiSlaveRegs&) const = default;
-  ODOLOC_FIELDS(sclk_meta, sclk_sync, sclk_prev, cs_meta, cs_sync, cs_prev, mosi_meta, mosi_sync,
-                active, crc_on, fall_armed, level_clocks, frame_overrun, rx_count, rx_shift, rx_crc,
-                command, words, tx_count, tx_shift, tx_crc, read_word, miso, snapshot, read_strobe,
-                read_address, commit, commit_write, frame_end, commit_address, commit_count, status)
+  bool operator==(const SpiEngineRegs&) const = default;
+  ODOLOC_FIELDS(active, crc_on, fall_armed, frame_overrun, rx_count, rx_shift, rx_crc, command,
+                tx_count, tx_shift, tx_crc, read_word, miso, snapshot, read_strobe, read_address,
+                commit, commit_write, frame_end, commit_address, commit_count, status)
 };
 
-// The register side's wires from the slave, as values (see the interface
-// above); words[0..commit_count-1] are valid while commit is high.
-struct SpiRegisterPort {
-  UInt<1> snapshot, read_strobe;
-  UInt<10> read_address;
-  UInt<1> commit, commit_write, frame_end;
-  UInt<10> commit_address;
-  UInt<6> commit_count;
-  UInt<4> status;
+// ---- write buffer -----------------------------------------------------------------
+// The words of a write frame, one write port: a word is stored in the clock
+// its last bit is received. Valid while the engine's commit is high.
+struct SpiWriteBufferRegs {
   std::array<UInt<32>, kSpiMaxBurst> words;
-  // Any strobe the register side acts on.
-  [[nodiscard]] bool active() const {
-    return !(snapshot | read_strobe | commit | frame_end).is_zero();
-  }
+  bool operator==(const SpiWriteBufferRegs&) const = default;
+  ODOLOC_FIELDS(words)
 };
 
-class SpiSlave : public Registers<SpiSlaveRegs> {
+class SpiWriteBuffer : public Registers<SpiWriteBufferRegs> {
+ public:
+  struct In {
+    UInt<1> write;
+    UInt<5> index;
+    UInt<32> word;
+    UInt<1> reset;
+  };
+  [[nodiscard]] Regs eval(const In& in) const {
+    if (in.reset)
+      return Regs{};
+    Regs n = r_;
+    if (in.write)
+      n.words[in.index.value()] = in.word;
+    return n;
+  }
+  [[nodiscard]] bool idle(const In& in) const { return (in.write | in.reset).is_zero(); }
+};
+
+class SpiEngine : public Registers<SpiEngineRegs> {
  public:
   static constexpr unsigned kMinLevelClocks = regs::spi::kMinLevelClocks;
   // status bits: the top.spi_status fields
@@ -147,7 +221,7 @@ class SpiSlave : public Registers<SpiSlaveRegs> {
   static constexpr std::uint8_t kStatusOverrun = regs::top::spi_status::overrun.mask();
 
   struct In {
-    UInt<1> sclk, cs_n, mosi;  // pins, asynchronous
+    SpiSynchroniser::Seen seen;
     UInt<1> crc_enable, spi_mode3;
     UInt<32> read_data;  // bus.read(read_address), the clock after read_strobe
     UInt<1> write_refused;
@@ -158,68 +232,53 @@ class SpiSlave : public Registers<SpiSlaveRegs> {
     if (in.reset)
       return Regs{};
     Regs n = r_;
-    n.sclk_meta = in.sclk;
-    n.sclk_sync = r_.sclk_meta;
-    n.sclk_prev = r_.sclk_sync;
-    n.cs_meta = in.cs_n;
-    n.cs_sync = r_.cs_meta;
-    n.cs_prev = r_.cs_sync;
-    n.mosi_meta = in.mosi;
-    n.mosi_sync = r_.mosi_meta;
     n.snapshot = n.read_strobe = n.commit = n.frame_end = UInt<1>{};
-    n.level_clocks = (r_.level_clocks + UInt<1>{1}).sat<3>();
     if (r_.read_strobe)
       n.read_word = in.read_data;
     if (in.write_refused)
       n.status = r_.status | UInt<4>{kStatusWriteRefused};
 
-    if (!r_.cs_sync && r_.cs_prev) {
+    if (in.seen.cs_fall) {
       start_frame(n, in);  // an SCLK edge seen in the same clock is dropped
       return n;
     }
     if (!r_.active)
       return n;
-    const bool rise = r_.sclk_sync && !r_.sclk_prev;
-    const bool fall = !r_.sclk_sync && r_.sclk_prev;
-    if (rise || fall) {
-      if (r_.level_clocks.value() < kMinLevelClocks)
-        n.frame_overrun = UInt<1>{1};
-      n.level_clocks = UInt<3>{1};
-    }
-    if (rise)
-      receive_bit(n);
-    if (fall)
+    if ((in.seen.rise || in.seen.fall) && in.seen.level_clocks.value() < kMinLevelClocks)
+      n.frame_overrun = UInt<1>{1};
+    if (in.seen.rise)
+      receive_bit(n, in.seen.mosi);
+    if (in.seen.fall)
       drive_next_bit(n);
-    if (r_.cs_sync && !r_.cs_prev)
+    if (in.seen.cs_rise)
       end_frame(n);
     return n;
   }
-
   [[nodiscard]] bool idle(const In& in) const {
-    const auto settled = [](UInt<1> pin, UInt<1> a, UInt<1> b) { return pin == a && a == b; };
-    return (in.reset | in.write_refused | r_.snapshot | r_.read_strobe | r_.commit | r_.frame_end)
-               .is_zero() &&
-           settled(in.sclk, r_.sclk_meta, r_.sclk_sync) && r_.sclk_sync == r_.sclk_prev &&
-           settled(in.cs_n, r_.cs_meta, r_.cs_sync) && r_.cs_sync == r_.cs_prev &&
-           settled(in.mosi, r_.mosi_meta, r_.mosi_sync) &&
-           r_.level_clocks.value() == UInt<3>::max_value;
+    const SpiSynchroniser::Seen& s = in.seen;
+    return !(s.cs_fall || s.cs_rise || s.rise || s.fall) &&
+           (in.reset | in.write_refused | r_.read_strobe).is_zero() && !strobing();
   }
 
-  // Any strobe the register side acts on (SpiRegisterPort::active, without the copy).
+  // The write buffer's port in this clock: a write frame's word whose last
+  // bit the rising edge of this clock brings in.
+  [[nodiscard]] SpiWriteBuffer::In word_write(const In& in) const {
+    SpiWriteBuffer::In w{
+        .write = {}, .index = {}, .word = received(in.seen.mosi), .reset = in.reset};
+    if (in.reset || in.seen.cs_fall || !r_.active || !in.seen.rise || is_read(r_.command))
+      return w;
+    // The command is stored at bit 16, before any data bit.
+    const unsigned c = static_cast<unsigned>(saturating_count(r_.rx_count).value());
+    if (c > kHeaderBits && c <= data_end(r_.command) && (c - kHeaderBits) % kWordBits == 0) {
+      w.write = UInt<1>{1};
+      w.index = UInt<5>::truncate((c - kHeaderBits) / kWordBits - 1);
+    }
+    return w;
+  }
+
+  // Any strobe the register side acts on.
   [[nodiscard]] bool strobing() const {
     return !(r_.snapshot | r_.read_strobe | r_.commit | r_.frame_end).is_zero();
-  }
-  [[nodiscard]] SpiRegisterPort port() const {
-    return {.snapshot = r_.snapshot,
-            .read_strobe = r_.read_strobe,
-            .read_address = r_.read_address,
-            .commit = r_.commit,
-            .commit_write = r_.commit_write,
-            .frame_end = r_.frame_end,
-            .commit_address = r_.commit_address,
-            .commit_count = r_.commit_count,
-            .status = r_.status,
-            .words = r_.words};
   }
 
  private:
@@ -239,6 +298,10 @@ class SpiSlave : public Registers<SpiSlaveRegs> {
   static UInt<11> saturating_count(UInt<11> count) {
     return UInt<11>::truncate(std::min<std::uint64_t>(count.value() + 1, kCountMax));
   }
+  // The receive shift register after a rising edge samples `mosi`.
+  [[nodiscard]] UInt<32> received(UInt<1> mosi) const {
+    return cat(r_.rx_shift.bits<30, 0>(), mosi);
+  }
   // Puts w's MSB on the pin and keeps the rest.
   static void shift_out(Regs& n, UInt<32> w) {
     n.miso = w.bit<31>();
@@ -249,7 +312,6 @@ class SpiSlave : public Registers<SpiSlaveRegs> {
     n.active = UInt<1>{1};
     n.crc_on = in.crc_enable;
     n.fall_armed = ~in.spi_mode3;
-    n.level_clocks = UInt<3>{1};
     n.frame_overrun = UInt<1>{};
     n.rx_count = UInt<11>{};
     n.rx_crc = UInt<8>{kCrc8Init};
@@ -260,10 +322,10 @@ class SpiSlave : public Registers<SpiSlaveRegs> {
     n.tx_crc = crc8_step(UInt<8>{kCrc8Init}, n.miso);
   }
 
-  void receive_bit(Regs& n) const {
+  void receive_bit(Regs& n, UInt<1> mosi) const {
     const unsigned c = static_cast<unsigned>(saturating_count(r_.rx_count).value());
     n.rx_count = saturating_count(r_.rx_count);
-    n.rx_shift = cat(r_.rx_shift.bits<30, 0>(), r_.mosi_sync);
+    n.rx_shift = received(mosi);
     if (c == kHeaderBits) {
       n.command = n.rx_shift.bits<15, 0>();
       if (is_read(n.command)) {
@@ -273,9 +335,7 @@ class SpiSlave : public Registers<SpiSlaveRegs> {
     }
     const unsigned end = c <= kHeaderBits ? kHeaderBits : data_end(n.command);
     if (c <= end)
-      n.rx_crc = crc8_step(r_.rx_crc, r_.mosi_sync);
-    if (c > kHeaderBits && c <= end && (c - kHeaderBits) % kWordBits == 0 && !is_read(n.command))
-      n.words[(c - kHeaderBits) / kWordBits - 1] = n.rx_shift;
+      n.rx_crc = crc8_step(r_.rx_crc, mosi);
   }
 
   void drive_next_bit(Regs& n) const {
@@ -323,6 +383,128 @@ class SpiSlave : public Registers<SpiSlaveRegs> {
       n.commit_count = UInt<6>::truncate(burst(n.command));
     }
   }
+};
+
+// The register side's wires from the slave, as values (see the interface
+// above); words[0..commit_count-1] are valid while commit is high.
+struct SpiRegisterPort {
+  UInt<1> snapshot, read_strobe;
+  UInt<10> read_address;
+  UInt<1> commit, commit_write, frame_end;
+  UInt<10> commit_address;
+  UInt<6> commit_count;
+  UInt<4> status;
+  std::array<UInt<32>, kSpiMaxBurst> words;
+  // Any strobe the register side acts on.
+  [[nodiscard]] bool active() const {
+    return !(snapshot | read_strobe | commit | frame_end).is_zero();
+  }
+};
+
+// ---- the slave ----------------------------------------------------------------------
+// Three blocks, so that a clock between SCLK edges costs the synchroniser
+// alone: the engine and the write buffer are idle then (activity gating).
+class SpiSlave {
+ public:
+  static constexpr unsigned kMinLevelClocks = SpiEngine::kMinLevelClocks;
+  static constexpr std::uint8_t kStatusCrcError = SpiEngine::kStatusCrcError;
+  static constexpr std::uint8_t kStatusBadLength = SpiEngine::kStatusBadLength;
+  static constexpr std::uint8_t kStatusWriteRefused = SpiEngine::kStatusWriteRefused;
+  static constexpr std::uint8_t kStatusOverrun = SpiEngine::kStatusOverrun;
+
+  struct In {
+    UInt<1> sclk, cs_n, mosi;  // pins, asynchronous
+    UInt<1> crc_enable, spi_mode3;
+    UInt<32> read_data;  // bus.read(read_address), the clock after read_strobe
+    UInt<1> write_refused;
+    UInt<1> reset;
+  };
+
+  // The wires into every child, from the current registers only.
+  struct Wires {
+    SpiSynchroniser::In synchroniser;
+    SpiEngine::In engine;
+    SpiWriteBuffer::In buffer;
+  };
+  [[nodiscard]] Wires wires(const In& in) const {
+    const SpiEngine::In engine = engine_in(in);
+    return {.synchroniser = synchroniser_in(in),
+            .engine = engine,
+            .buffer = engine_.word_write(engine)};
+  }
+  [[nodiscard]] SpiSynchroniser::In synchroniser_in(const In& in) const {
+    return {.sclk = in.sclk,
+            .cs_n = in.cs_n,
+            .mosi = in.mosi,
+            .active = engine_.regs().active,
+            .reset = in.reset};
+  }
+  [[nodiscard]] SpiEngine::In engine_in(const In& in) const {
+    return {.seen = synchroniser_.seen(),
+            .crc_enable = in.crc_enable,
+            .spi_mode3 = in.spi_mode3,
+            .read_data = in.read_data,
+            .write_refused = in.write_refused,
+            .reset = in.reset};
+  }
+
+  template <Gating G = Gating::kOn, class Order = DeclarationOrder>
+  void step(const In& in, const Order& order = {}) {
+    // Between SCLK edges (the common case) the engine is idle, and with it
+    // the write buffer (written only on an edge): only the synchroniser moves.
+    if (G == Gating::kOn && engine_.idle(engine_in(in))) {
+      clock_block<G>(synchroniser_, synchroniser_in(in));
+      return;
+    }
+    const Wires w = wires(in);
+    order([&] { clock_block<G>(synchroniser_, w.synchroniser); },
+          [&] { clock_block<G>(engine_, w.engine); }, [&] { clock_block<G>(buffer_, w.buffer); });
+  }
+  [[nodiscard]] bool idle(const In& in) const {
+    const Wires w = wires(in);
+    return synchroniser_.idle(w.synchroniser) && engine_.idle(w.engine) && buffer_.idle(w.buffer);
+  }
+  void reset_now() {
+    synchroniser_.reset_now();
+    engine_.reset_now();
+    buffer_.reset_now();
+  }
+
+  // Any strobe the register side acts on (SpiRegisterPort::active, without the copy).
+  [[nodiscard]] bool strobing() const { return engine_.strobing(); }
+  [[nodiscard]] SpiRegisterPort port() const {
+    const SpiEngineRegs& e = engine_.regs();
+    return {.snapshot = e.snapshot,
+            .read_strobe = e.read_strobe,
+            .read_address = e.read_address,
+            .commit = e.commit,
+            .commit_write = e.commit_write,
+            .frame_end = e.frame_end,
+            .commit_address = e.commit_address,
+            .commit_count = e.commit_count,
+            .status = e.status,
+            .words = buffer_.regs().words};
+  }
+  [[nodiscard]] UInt<1> miso() const { return engine_.regs().miso; }
+
+  [[nodiscard]] const SpiSynchroniserRegs& synchroniser() const { return synchroniser_.regs(); }
+  [[nodiscard]] const SpiEngineRegs& engine() const { return engine_.regs(); }
+  [[nodiscard]] const SpiWriteBufferRegs& buffer() const { return buffer_.regs(); }
+  bool operator==(const SpiSlave& o) const {
+    return synchroniser() == o.synchroniser() && engine() == o.engine() && buffer() == o.buffer();
+  }
+
+  template <class V>
+  void trace(V& v) const {
+    trace_scope(v, "synchroniser", synchroniser_);
+    trace_scope(v, "engine", engine_);
+    trace_scope(v, "buffer", buffer_);
+  }
+
+ private:
+  SpiSynchroniser synchroniser_;
+  SpiEngine engine_;
+  SpiWriteBuffer buffer_;
 };
 
 }  // namespace odoloc::rtl

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "odoloc/board/spi_pin_master.hpp"
@@ -79,6 +80,7 @@ class ChipLink final : public sw::SpiLink {
         },
         bits);
     in_frame_ = false;
+    catch_up_sensors();
     return miso;
   }
 
@@ -110,23 +112,8 @@ class ChipLink final : public sw::SpiLink {
     pins_.sclk = idle_sclk;
     pins_.cs_n = rtl::UInt<1>{1};
     pins_.mosi = rtl::UInt<1>{};
-    while (clocks != 0) {
-      std::uint64_t run = clocks;  // clocks on these pins
-      if (stimulus_ != nullptr) {
-        stimulus_->tick(pins_);
-        if (const std::uint64_t walked = walk_encoders(clocks)) {
-          clocks_ += walked;
-          clocks -= walked;
-          continue;
-        }
-        const std::uint64_t held = std::min(clocks - 1, stimulus_->hold());
-        stimulus_->skip(held);
-        run = 1 + held;
-      }
-      skipped_ += chip_.advance(run, pins_);
-      clocks_ += run;
-      clocks -= run;
-    }
+    skipped_ += drive_stimulus(clocks, Part::kWholeChip);
+    clocks_ += clocks;
   }
   // Every clock stepped, as before fast-forward (for comparisons: --cycle-step).
   void set_cycle_step(bool cycle_step) { cycle_step_ = cycle_step; }
@@ -138,13 +125,22 @@ class ChipLink final : public sw::SpiLink {
   [[nodiscard]] std::uint64_t clocks() const { return clocks_; }
 
   // One fabric clock with these SPI pin levels; returns MISO after it.
+  // Inside a frame, while the register file is quiet, the slave is clocked
+  // alone and the sensor side caught up later (OdolocChip::step_bus), unless
+  // cycle stepping or the whole chip's waveform was asked for.
   rtl::UInt<1> clock(rtl::UInt<1> sclk, rtl::UInt<1> cs_n, rtl::UInt<1> mosi) {
-    if (stimulus_ != nullptr)
-      stimulus_->tick(pins_);
     pins_.sclk = sclk;
     pins_.cs_n = cs_n;
     pins_.mosi = mosi;
-    chip_.step(pins_);
+    if (in_frame_ && !cycle_step_ && vcd_ == nullptr && chip_.bus_quiet(pins_)) {
+      chip_.step_bus(pins_);
+      ++sensor_lag_;
+    } else {
+      catch_up_sensors();
+      if (stimulus_ != nullptr)
+        stimulus_->tick(pins_);
+      chip_.step(pins_);
+    }
     if (vcd_ != nullptr && in_frame_)
       vcd_->sample(chip_, clocks_);
     if (pins_vcd_ != nullptr && in_frame_)
@@ -154,14 +150,50 @@ class ChipLink final : public sw::SpiLink {
   }
 
  private:
+  // What drive_stimulus clocks: the whole chip with the bus idle, or the
+  // sensor side alone behind a frame.
+  enum class Part : bool { kWholeChip, kSensors };
+
+  // `clocks` clocks of the stimulus, fast-forwarded between its pin changes;
+  // returns how many were skipped rather than stepped.
+  std::uint64_t drive_stimulus(std::uint64_t clocks, Part part) {
+    std::uint64_t skipped = 0;
+    while (clocks != 0) {
+      std::uint64_t run = clocks;  // clocks on these pins
+      if (stimulus_ != nullptr) {
+        stimulus_->tick(pins_);
+        if (const std::uint64_t walked = walk_encoders(clocks, part)) {
+          skipped += walked;
+          clocks -= walked;
+          continue;
+        }
+        const std::uint64_t held = std::min(clocks - 1, stimulus_->hold());
+        stimulus_->skip(held);
+        run = 1 + held;
+      }
+      skipped +=
+          part == Part::kWholeChip ? chip_.advance(run, pins_) : chip_.advance_sensors(run, pins_);
+      clocks -= run;
+    }
+    return skipped;
+  }
+  // The sensor side's clocks behind the slave's, brought up.
+  void catch_up_sensors() {
+    const std::uint64_t lag = std::exchange(sensor_lag_, 0);
+    if (lag != 0)
+      drive_stimulus(lag, Part::kSensors);
+  }
+
   // After a tick(): when only the encoder pins change for a while and the
   // chip can skip, skips up to `clocks` of them walking each encoder's own
   // runs (OdolocChip::skip with runs); returns the clocks done (0: none).
-  std::uint64_t walk_encoders(std::uint64_t clocks) {
+  std::uint64_t walk_encoders(std::uint64_t clocks, Part part) {
     const std::uint64_t hold = stimulus_->encoder_runs_hold();
     if (hold == 0)
       return 0;
-    const std::uint64_t n = std::min({clocks, 1 + hold, chip_.clocks_until_event(pins_)});
+    const std::uint64_t horizon = part == Part::kWholeChip ? chip_.clocks_until_event(pins_)
+                                                           : chip_.sensor_clocks_until_event();
+    const std::uint64_t n = std::min({clocks, 1 + hold, horizon});
     if (n < 2)
       return 0;
     stimulus_->begin_encoder_runs();
@@ -169,7 +201,6 @@ class ChipLink final : public sw::SpiLink {
                [this](std::size_t w, std::uint64_t max) { return stimulus_->encoder_run(w, max); });
     stimulus_->end_encoder_runs(n - 1);
     pins_.encoders = chip_.pins().encoders;
-    skipped_ += n;
     return n;
   }
 
@@ -207,6 +238,7 @@ class ChipLink final : public sw::SpiLink {
   SensorStimulus* stimulus_ = nullptr;
   std::uint64_t clocks_ = 0;
   std::uint64_t skipped_ = 0;
+  std::uint64_t sensor_lag_ = 0;  // clocks the sensor side is behind (clock())
   bool cycle_step_ = false;
   rtl::VcdWriter* vcd_ = nullptr;
   rtl::VcdWriter* pins_vcd_ = nullptr;
