@@ -39,33 +39,49 @@ double edges_per_clock(std::size_t wheel) {
   return kEdgesPerSecond[wheel] / odoloc::rtl::kFabricClockHz;
 }
 
+// Issue 13's stimulus as encoder pins, one clock at a time.
+class IssueStimulus {
+ public:
+  // The A/B pins (A in bit 1) of the next clock, per encoder.
+  std::array<odoloc::rtl::UInt<2>, kEncoderCount> tick() {
+    if (clock_ % kSteeringReversalClocks == 0) {
+      const bool backward = (clock_ / kSteeringReversalClocks) % 2 == 1;
+      sources_[3].set_rate(backward ? -edges_per_clock(3) : edges_per_clock(3));
+    }
+    ++clock_;
+    std::array<odoloc::rtl::UInt<2>, kEncoderCount> ab;
+    for (std::size_t w = 0; w < kEncoderCount; ++w)
+      ab[w] = encoder_pins(sources_[w].tick());
+    return ab;
+  }
+  [[nodiscard]] std::uint64_t clocks() const { return clock_; }
+
+ private:
+  std::array<QuadratureSource, kEncoderCount> sources_ = {
+      QuadratureSource{edges_per_clock(0)}, QuadratureSource{edges_per_clock(1)},
+      QuadratureSource{edges_per_clock(2)}, QuadratureSource{edges_per_clock(3)}};
+  std::uint64_t clock_ = 0;
+};
+
 // Four encoders at four speeds; the steering encoder reverses every 1.3 ms.
 template <odoloc::rtl::Gating G>
 void step_four_eppms(benchmark::State& state) {
   EncoderFabric fabric;
   EncoderFabric::Config cfg{};
   EncoderFabric::In in{};
-  std::array<QuadratureSource, kEncoderCount> sources = {
-      QuadratureSource{edges_per_clock(0)}, QuadratureSource{edges_per_clock(1)},
-      QuadratureSource{edges_per_clock(2)}, QuadratureSource{edges_per_clock(3)}};
-  std::uint64_t clocks = 0;
+  IssueStimulus stimulus;
   for (auto _ : state) {
     for (int i = 0; i < 1024; ++i) {
-      if (clocks % kSteeringReversalClocks == 0) {
-        const bool backward = (clocks / kSteeringReversalClocks) % 2 == 1;
-        sources[3].set_rate(backward ? -edges_per_clock(3) : edges_per_clock(3));
-      }
+      const auto ab = stimulus.tick();
       for (std::size_t w = 0; w < kEncoderCount; ++w) {
-        const auto ab = encoder_pins(sources[w].tick());
-        in[w].a = ab.bit<1>();
-        in[w].b = ab.bit<0>();
+        in[w].a = ab[w].bit<1>();
+        in[w].b = ab[w].bit<0>();
       }
       fabric.step<G>(in, cfg);
-      ++clocks;
     }
     benchmark::DoNotOptimize(fabric);
   }
-  state.SetItemsProcessed(static_cast<std::int64_t>(clocks));
+  state.SetItemsProcessed(static_cast<std::int64_t>(stimulus.clocks()));
   state.counters["left_rear_count"] =
       static_cast<double>(fabric.eppm(odoloc::rtl::Encoder::kLeftRear).count().value());
 }
@@ -96,9 +112,31 @@ void BM_OdometryFabric_CycleStep(benchmark::State& state) {
 }
 BENCHMARK(BM_OdometryFabric_CycleStep);
 
-// The whole chip (fabric, register file, idle SPI slave) with the four
-// encoders moving: the cost of the register side on every clock.
+// The whole chip (fabric, capture unit, register file, idle SPI slave)
+// stepped clock by clock under issue 13's stimulus, cs_n high: compare with
+// BM_FourEppm_CycleStep for the cost of the rest of the chip on every clock.
 void BM_OdolocChip_CycleStep(benchmark::State& state) {
+  odoloc::rtl::OdolocChip chip;
+  odoloc::rtl::ChipPins pins;
+  IssueStimulus stimulus;
+  for (auto _ : state) {
+    for (int i = 0; i < 1024; ++i) {
+      const auto ab = stimulus.tick();
+      for (std::size_t w = 0; w < kEncoderCount; ++w)
+        pins.encoders[w] = ab[w];
+      chip.step(pins);
+    }
+    benchmark::DoNotOptimize(chip);
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(stimulus.clocks()));
+  state.counters["chip_bytes"] = sizeof(odoloc::rtl::OdolocChip);  // memory per instance
+}
+BENCHMARK(BM_OdolocChip_CycleStep);
+
+// The chip behind the board's link, a per-clock function driving four
+// encoders at 200 k, 20 k, 1 M and 2 k edges/s (reversed): every clock
+// through ChipLink::advance and its stimulus calls, SPI idle.
+void BM_ChipLink_CycleStep(benchmark::State& state) {
   std::array<QuadratureSource, 4> sources{QuadratureSource(0.004), QuadratureSource(0.0004),
                                           QuadratureSource(0.02), QuadratureSource(-0.00004)};
   odoloc::board::ChipLink link({.half_period = 4}, [&](auto& pins) {
@@ -108,14 +146,13 @@ void BM_OdolocChip_CycleStep(benchmark::State& state) {
   for (auto _ : state)
     link.advance(1024);
   state.SetItemsProcessed(static_cast<std::int64_t>(link.clocks()));
-  state.counters["chip_bytes"] = sizeof(odoloc::rtl::OdolocChip);  // memory per instance
 }
-BENCHMARK(BM_OdolocChip_CycleStep);
+BENCHMARK(BM_ChipLink_CycleStep);
 
 // The same chip with the ultrasonic capture unit armed on all eight
 // channels, during Kleeman's beacon cycles (the acoustic world's envelope
 // comparators on the pins, echoes included), the encoders moving as above;
-// no SPI. Compare with BM_OdolocChip_CycleStep: the channels' share.
+// no SPI. Compare with BM_ChipLink_CycleStep: the channels' share.
 void BM_OdolocChip_CycleStep_BeaconCycle(benchmark::State& state) {
   namespace world = odoloc::world;
   const world::AcousticWorld room = world::kleeman_world();

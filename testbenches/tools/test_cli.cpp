@@ -901,34 +901,50 @@ TEST(CliRun, ScriptIsCheckedWholeBeforeAnythingRuns) {
 }
 
 // Issue 9: `reg watch top.id --interval 600s --count 3` ran 20 minutes of
-// CPU. Simulated time beyond kMaxSimulated per command is refused up front.
+// CPU. Simulated time beyond the limit per command is refused up front: 120 s
+// fast-forwarding, 10 s with --cycle-step (issue 13).
 TEST(CliRun, SimulatedTimeBeyondTheLimitIsRefusedBeforeAnythingRuns) {
-  Harness h;
-  const auto max_s = cli::kMaxSimulated.count();
-  const std::string over = fmt::format("{}.000000001s", max_s);
-  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
-           {"wait", over},
-           {"reg", "watch", "top.id", "--interval", "600s", "--count", "3"},
-           {"reg", "watch", "top.id", "--interval", over},
-           {"reg", "watch", "top.id", "--interval", "1s", "--count", std::to_string(max_s + 2)},
-           {"reg", "watch", "top.id", "--interval", "1s", "--count", "18446744073709551615"},
-           {"--target", "sim:straight", "wait", over}}) {
-    SCOPED_TRACE(args.back());
-    EXPECT_EQ(h.run(args), cli::kExitUsage);
-    EXPECT_NE(h.err.find("simulated"), std::string::npos) << h.err;
+  EXPECT_EQ(cli::simulated_limit(false).max, std::chrono::seconds{120});
+  EXPECT_EQ(cli::simulated_limit(true).max, std::chrono::seconds{10});
+  for (const bool cycle_step : {false, true}) {
+    SCOPED_TRACE(cycle_step ? "--cycle-step" : "fast-forward");
+    Harness h;
+    const std::vector<std::string> mode =
+        cycle_step ? std::vector<std::string>{"--cycle-step"} : std::vector<std::string>{};
+    const auto with_mode = [&](std::vector<std::string> args) {
+      args.insert(args.begin(), mode.begin(), mode.end());
+      return args;
+    };
+    const auto max_s = cli::simulated_limit(cycle_step).max.count();
+    const std::string over = fmt::format("{}.000000001s", max_s);
+    for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+             {"wait", over},
+             {"reg", "watch", "top.id", "--interval", "600s", "--count", "3"},
+             {"reg", "watch", "top.id", "--interval", over},
+             {"reg", "watch", "top.id", "--interval", "1s", "--count", std::to_string(max_s + 2)},
+             {"reg", "watch", "top.id", "--interval", "1s", "--count", "18446744073709551615"},
+             {"--target", "sim:straight", "wait", over}}) {
+      SCOPED_TRACE(args.back());
+      EXPECT_EQ(h.run(with_mode(args)), cli::kExitUsage);
+      EXPECT_NE(h.err.find("simulated"), std::string::npos) << h.err;
+      EXPECT_NE(h.err.find(fmt::format("at most {} s per command", max_s)), std::string::npos)
+          << h.err;
+      EXPECT_EQ(h.err.find("--cycle-step") != std::string::npos, cycle_step) << h.err;
+    }
+    EXPECT_EQ(h.run(with_mode({"script", "-"}), "reg write top.scratch=1\nwait " + over + "\n"),
+              cli::kExitUsage);
+    EXPECT_NE(h.err.find("<stdin>:2: "), std::string::npos) << h.err;
+    EXPECT_EQ(h.opened, 0);
+    EXPECT_TRUE(h.waits.empty());
+    // At the limit it runs; on spidev (wall-clock sleeps) there is no limit
+    // (this opener never sleeps).
+    EXPECT_EQ(h.run(with_mode({"wait", fmt::format("{}s", max_s)})), cli::kExitOk) << h.err;
+    EXPECT_EQ(h.run(with_mode({"reg", "watch", "top.id", "--interval", "1s", "--count",
+                               std::to_string(max_s + 1)})),
+              cli::kExitOk)
+        << h.err;
   }
-  EXPECT_EQ(h.run({"script", "-"}, "reg write top.scratch=1\nwait " + over + "\n"),
-            cli::kExitUsage);
-  EXPECT_NE(h.err.find("<stdin>:2: "), std::string::npos) << h.err;
-  EXPECT_EQ(h.opened, 0);
-  EXPECT_TRUE(h.waits.empty());
-  // At the limit it runs; on spidev (wall-clock sleeps) there is no limit
-  // (this opener never sleeps).
-  EXPECT_EQ(h.run({"wait", fmt::format("{}s", max_s)}), cli::kExitOk) << h.err;
-  EXPECT_EQ(
-      h.run({"reg", "watch", "top.id", "--interval", "1s", "--count", std::to_string(max_s + 1)}),
-      cli::kExitOk)
-      << h.err;
+  Harness h;
   EXPECT_EQ(h.run({"-t", "spidev:/dev/spidev0.0", "wait", "600s"}), cli::kExitOk) << h.err;
 }
 

@@ -594,9 +594,13 @@ TEST(CliE2eLimits, SimulatedTimeBeyondTheLimitIsRefusedAtOnce) {
   const auto started = std::chrono::steady_clock::now();
   expect_usage_error(run({"reg", "watch", "top.id", "--interval", "600s", "--count", "3"}),
                      "simulated");
-  expect_usage_error(run({"wait", "11s"}), "simulated");
+  expect_usage_error(run({"wait", "121s"}), "at most 120 s per command");
+  expect_usage_error(run({"--cycle-step", "wait", "11s"}),
+                     "at most 10 s per command with --cycle-step");
   expect_usage_error(run({"script", "-"}, "reg read top.id\nwait 1h\n"), "<stdin>:2: bad interval");
-  expect_usage_error(run({"script", "-"}, "reg read top.id\nwait 100s\n"), "<stdin>:2: ");
+  expect_usage_error(run({"script", "-"}, "reg read top.id\nwait 200s\n"), "<stdin>:2: ");
+  expect_usage_error(run({"--cycle-step", "script", "-"}, "reg read top.id\nwait 11s\n"),
+                     "<stdin>:2: ");
   EXPECT_LT(std::chrono::steady_clock::now() - started, std::chrono::seconds{5});
 }
 

@@ -58,7 +58,9 @@ int guarded(const Io& io, std::string_view where, F&& body) {
 
 // Every line parsed and resolved before anything runs, so a typo on line 9
 // does not leave lines 1-8 applied.
-std::vector<ScriptStep> parse_script(std::istream& in, const std::string& name, bool simulated) {
+// limit: the simulated board's (check_simulated), null on other targets.
+std::vector<ScriptStep> parse_script(std::istream& in, const std::string& name,
+                                     const SimulatedLimit* limit) {
   std::vector<ScriptStep> steps;
   std::string text;
   for (std::size_t line = 1; std::getline(in, text); ++line) {
@@ -74,8 +76,8 @@ std::vector<ScriptStep> parse_script(std::istream& in, const std::string& name, 
             "the odoloc command line, for the whole script");
       if (std::holds_alternative<ScriptCommand>(inv.command) && inv.help.empty())
         throw UsageError("a script cannot run another script");
-      if (simulated && inv.help.empty())
-        check_simulated(inv.command);
+      if (limit != nullptr && inv.help.empty())
+        check_simulated(inv.command, *limit);
       steps.push_back({line, std::move(inv)});
     } catch (const UsageError& e) {
       throw UsageError(fmt::format("{}:{}: {}", name, line, e.what()));
@@ -91,7 +93,8 @@ int run_script(const Invocation& outer, const ScriptCommand& cmd, const Io& io,
   const std::string name = cmd.file == "-" ? "<stdin>" : cmd.file;
   std::vector<ScriptStep> steps;
   int code = guarded(io, "", [&] {
-    const bool simulated = is_sim_spec(outer.target);
+    const SimulatedLimit limit = simulated_limit(outer.cycle_step);
+    const SimulatedLimit* simulated = is_sim_spec(outer.target) ? &limit : nullptr;
     if (cmd.file == "-") {
       steps = parse_script(io.in, name, simulated);
       return;
@@ -157,7 +160,7 @@ int run_cli(std::span<const std::string> args, const Io& io, const TargetOpener&
     inv = parse_invocation(args);
     check_target_spec(inv.target);
     if (inv.help.empty() && is_sim_spec(inv.target))
-      check_simulated(inv.command);
+      check_simulated(inv.command, simulated_limit(inv.cycle_step));
   });
   if (code != kExitOk)
     return code;

@@ -625,31 +625,32 @@ std::string version_text() {
                      regs::top::id::kReset);
 }
 
-void check_simulated(const Command& command) {
+void check_simulated(const Command& command, const SimulatedLimit& limit) {
   using std::chrono::nanoseconds;
-  const auto refuse = [](std::string_view what, nanoseconds asked) {
+  const bool fast = limit.max == kFastForwardLimit.max;
+  const std::string at_most =
+      fmt::format("at most {} s per command{}, about {} s of CPU", limit.max.count(),
+                  fast ? "" : " with --cycle-step", limit.cpu.count());
+  const auto refuse = [&](std::string_view what, nanoseconds asked) {
     throw UsageError(fmt::format(
         "{} of {} s of simulated time is more than the simulated board runs in reasonable time "
-        "(at most {} s per command, about {} s of CPU); split it, or use a shorter interval",
-        what, std::chrono::duration<double>(asked).count(), kMaxSimulated.count(),
-        2 * kMaxSimulated.count()));
+        "({}); split it, or use a shorter interval",
+        what, std::chrono::duration<double>(asked).count(), at_most));
   };
   if (const auto* wait = std::get_if<WaitCommand>(&command); wait != nullptr) {
-    if (wait->duration > kMaxSimulated)
+    if (wait->duration > limit.max)
       refuse("wait", wait->duration);
   } else if (const auto* watch = std::get_if<WatchCommand>(&command); watch != nullptr) {
-    if (watch->interval > kMaxSimulated)
+    if (watch->interval > limit.max)
       refuse("a watch interval", watch->interval);
     // interval × (count − 1), without overflow.
     if (watch->count > 1 &&
         static_cast<std::uint64_t>(watch->interval.count()) >
-            static_cast<std::uint64_t>(nanoseconds{kMaxSimulated}.count()) / (watch->count - 1))
+            static_cast<std::uint64_t>(nanoseconds{limit.max}.count()) / (watch->count - 1))
       throw UsageError(fmt::format(
           "a watch of {} samples {} s apart is more simulated time than the simulated board "
-          "runs in reasonable time (at most {} s per command); use fewer samples or a shorter "
-          "interval",
-          watch->count, std::chrono::duration<double>(watch->interval).count(),
-          kMaxSimulated.count()));
+          "runs in reasonable time ({}); use fewer samples or a shorter interval",
+          watch->count, std::chrono::duration<double>(watch->interval).count(), at_most));
   }
 }
 

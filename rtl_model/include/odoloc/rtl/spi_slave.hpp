@@ -450,15 +450,9 @@ class SpiSlave {
 
   template <Gating G = Gating::kOn, class Order = DeclarationOrder>
   void step(const In& in, const Order& order = {}) {
-    // Between SCLK edges (the common case) the engine is idle, and with it
-    // the write buffer (written only on an edge): only the synchroniser moves.
-    if (G == Gating::kOn && engine_.idle(engine_in(in))) {
-      clock_block<G>(synchroniser_, synchroniser_in(in));
+    if (G == Gating::kOn && quiet(in))
       return;
-    }
-    const Wires w = wires(in);
-    order([&] { clock_block<G>(synchroniser_, w.synchroniser); },
-          [&] { clock_block<G>(engine_, w.engine); }, [&] { clock_block<G>(buffer_, w.buffer); });
+    step_blocks<G>(in, order);
   }
   [[nodiscard]] bool idle(const In& in) const {
     const Wires w = wires(in);
@@ -468,6 +462,7 @@ class SpiSlave {
     synchroniser_.reset_now();
     engine_.reset_now();
     buffer_.reset_now();
+    settled_ = false;
   }
 
   // Any strobe the register side acts on (SpiRegisterPort::active, without the copy).
@@ -502,9 +497,39 @@ class SpiSlave {
   }
 
  private:
+  // Out of line: a bus at rest (the common case) costs quiet() alone.
+  template <Gating G, class Order>
+  [[gnu::noinline]] void step_blocks(const In& in, const Order& order) {
+    // Between SCLK edges the engine is idle, and with it the write buffer
+    // (written only on an edge): only the synchroniser moves.
+    if (G == Gating::kOn && engine_.idle(engine_in(in))) {
+      clock_block<G>(synchroniser_, synchroniser_in(in));
+    } else {
+      const Wires w = wires(in);
+      order([&] { clock_block<G>(synchroniser_, w.synchroniser); },
+            [&] { clock_block<G>(engine_, w.engine); }, [&] { clock_block<G>(buffer_, w.buffer); });
+    }
+    settled_ = settled();
+  }
+  // Every pin through both flops with no edge pending, the level count
+  // saturated and no strobe out: idle() for the same pins, no reset and no
+  // refused write.
+  [[nodiscard]] bool settled() const {
+    const SpiSynchroniserRegs& s = synchroniser_.regs();
+    return s.sclk_meta == s.sclk_sync && s.sclk_sync == s.sclk_prev && s.cs_meta == s.cs_sync &&
+           s.cs_sync == s.cs_prev && s.mosi_meta == s.mosi_sync &&
+           s.level_clocks.value() == UInt<3>::max_value && !engine_.strobing();
+  }
+  [[nodiscard]] bool quiet(const In& in) const {
+    const SpiSynchroniserRegs& s = synchroniser_.regs();
+    return settled_ && in.sclk == s.sclk_meta && in.cs_n == s.cs_meta && in.mosi == s.mosi_meta &&
+           (in.reset | in.write_refused).is_zero();
+  }
+
   SpiSynchroniser synchroniser_;
   SpiEngine engine_;
   SpiWriteBuffer buffer_;
+  bool settled_ = false;  // simulator bookkeeping, not a register: settled() after the last clock
 };
 
 }  // namespace odoloc::rtl

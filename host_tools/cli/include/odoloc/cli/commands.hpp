@@ -86,9 +86,9 @@ struct Invocation {
 [[nodiscard]] std::string version_text();
 
 // On the simulated board: UsageError for a command that asks for more
-// simulated time than kMaxSimulated (a wait, a watch's interval or its
+// simulated time than limit.max (a wait, a watch's interval or its
 // interval × (count − 1)). A watch without --count is bounded by Ctrl-C.
-void check_simulated(const Command& command);
+void check_simulated(const Command& command, const SimulatedLimit& limit);
 
 // Runs one command other than ScriptCommand. `target` may be null for
 // commands that need none. With `json`, prints exactly one JSON document per

@@ -47,11 +47,22 @@ class Target {
 };
 
 // The longest simulated time one command may ask of the simulated board (a
-// wait, or a watch's interval × (count − 1)): the model runs roughly 25
-// million fabric clocks (half a simulated second) per second of CPU, so ten
-// simulated seconds take about 20 s. Longer requests are refused before
-// anything runs.
-inline constexpr std::chrono::seconds kMaxSimulated{10};
+// wait, or a watch's interval × (count − 1)), and about what it costs; longer
+// requests are refused before anything runs. Fast-forwarding (the default)
+// the board runs the square drive's 10 s in about 0.4 s of CPU, so 120 s
+// take about 5 s; stepped clock by clock (--cycle-step) it runs about 25
+// million fabric clocks (half a simulated second) per second of CPU, so 10 s
+// take about 20 s.
+struct SimulatedLimit {
+  std::chrono::seconds max;  // simulated time per command
+  std::chrono::seconds cpu;  // about the CPU time `max` takes
+};
+inline constexpr SimulatedLimit kFastForwardLimit{std::chrono::seconds{120},
+                                                  std::chrono::seconds{5}};
+inline constexpr SimulatedLimit kCycleStepLimit{std::chrono::seconds{10}, std::chrono::seconds{20}};
+[[nodiscard]] constexpr SimulatedLimit simulated_limit(bool cycle_step) {
+  return cycle_step ? kCycleStepLimit : kFastForwardLimit;
+}
 
 // True for sim and sim:SCENARIO.
 [[nodiscard]] bool is_sim_spec(std::string_view spec);
