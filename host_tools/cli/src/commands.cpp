@@ -627,10 +627,8 @@ std::string version_text() {
 
 void check_simulated(const Command& command, const SimulatedLimit& limit) {
   using std::chrono::nanoseconds;
-  const bool fast = limit.max == kFastForwardLimit.max;
-  const std::string at_most =
-      fmt::format("at most {} s per command{}, about {} s of CPU", limit.max.count(),
-                  fast ? "" : " with --cycle-step", limit.cpu.count());
+  const std::string at_most = fmt::format("at most {} s per command{}, about {} s of CPU",
+                                          limit.max.count(), limit.mode, limit.cpu.count());
   const auto refuse = [&](std::string_view what, nanoseconds asked) {
     throw UsageError(fmt::format(
         "{} of {} s of simulated time is more than the simulated board runs in reasonable time "

@@ -511,14 +511,16 @@ class SpiSlave {
     }
     settled_ = settled();
   }
-  // Every pin through both flops with no edge pending, the level count
-  // saturated and no strobe out: idle() for the same pins, no reset and no
-  // refused write.
+  // The synchroniser idle on the pins it last took and no strobe out: then
+  // the whole slave is idle for the same pins, no reset and no refused write.
   [[nodiscard]] bool settled() const {
     const SpiSynchroniserRegs& s = synchroniser_.regs();
-    return s.sclk_meta == s.sclk_sync && s.sclk_sync == s.sclk_prev && s.cs_meta == s.cs_sync &&
-           s.cs_sync == s.cs_prev && s.mosi_meta == s.mosi_sync &&
-           s.level_clocks.value() == UInt<3>::max_value && !engine_.strobing();
+    return synchroniser_.idle({.sclk = s.sclk_meta,
+                               .cs_n = s.cs_meta,
+                               .mosi = s.mosi_meta,
+                               .active = engine_.regs().active,
+                               .reset = {}}) &&
+           !engine_.strobing();
   }
   [[nodiscard]] bool quiet(const In& in) const {
     const SpiSynchroniserRegs& s = synchroniser_.regs();

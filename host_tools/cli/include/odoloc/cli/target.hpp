@@ -56,10 +56,12 @@ class Target {
 struct SimulatedLimit {
   std::chrono::seconds max;  // simulated time per command
   std::chrono::seconds cpu;  // about the CPU time `max` takes
+  std::string_view mode;     // for messages: "" or " with --cycle-step"
 };
 inline constexpr SimulatedLimit kFastForwardLimit{std::chrono::seconds{120},
-                                                  std::chrono::seconds{5}};
-inline constexpr SimulatedLimit kCycleStepLimit{std::chrono::seconds{10}, std::chrono::seconds{20}};
+                                                  std::chrono::seconds{5}, ""};
+inline constexpr SimulatedLimit kCycleStepLimit{std::chrono::seconds{10}, std::chrono::seconds{20},
+                                                " with --cycle-step"};
 [[nodiscard]] constexpr SimulatedLimit simulated_limit(bool cycle_step) {
   return cycle_step ? kCycleStepLimit : kFastForwardLimit;
 }
