@@ -7,6 +7,7 @@
 #include <random>
 
 #include "beacon_geometry.hpp"
+#include "issue_stimulus.hpp"
 #include "odoloc/board/chip_link.hpp"
 #include "odoloc/board/encoder_pins.hpp"
 #include "odoloc/board/world_stimulus.hpp"
@@ -27,41 +28,8 @@ namespace {
 using odoloc::board::encoder_pins;
 using odoloc::rtl::EncoderFabric;
 using odoloc::rtl::kEncoderCount;
+using odoloc::tb::IssueStimulus;
 using odoloc::world::QuadratureSource;
-
-// Issue 13's stimulus, the one Verilator was measured under: quadrature at
-// 50 k, 20 k, 125 k and 4 k edges/s; the steering encoder reverses every
-// 1.3 ms.
-constexpr double kEdgesPerSecond[kEncoderCount] = {50e3, 20e3, 125e3, 4e3};
-constexpr std::uint64_t kSteeringReversalClocks = 1U << 16;  // 1.3 ms
-
-double edges_per_clock(std::size_t wheel) {
-  return kEdgesPerSecond[wheel] / odoloc::rtl::kFabricClockHz;
-}
-
-// Issue 13's stimulus as encoder pins, one clock at a time.
-class IssueStimulus {
- public:
-  // The A/B pins (A in bit 1) of the next clock, per encoder.
-  std::array<odoloc::rtl::UInt<2>, kEncoderCount> tick() {
-    if (clock_ % kSteeringReversalClocks == 0) {
-      const bool backward = (clock_ / kSteeringReversalClocks) % 2 == 1;
-      sources_[3].set_rate(backward ? -edges_per_clock(3) : edges_per_clock(3));
-    }
-    ++clock_;
-    std::array<odoloc::rtl::UInt<2>, kEncoderCount> ab;
-    for (std::size_t w = 0; w < kEncoderCount; ++w)
-      ab[w] = encoder_pins(sources_[w].tick());
-    return ab;
-  }
-  [[nodiscard]] std::uint64_t clocks() const { return clock_; }
-
- private:
-  std::array<QuadratureSource, kEncoderCount> sources_ = {
-      QuadratureSource{edges_per_clock(0)}, QuadratureSource{edges_per_clock(1)},
-      QuadratureSource{edges_per_clock(2)}, QuadratureSource{edges_per_clock(3)}};
-  std::uint64_t clock_ = 0;
-};
 
 // Four encoders at four speeds; the steering encoder reverses every 1.3 ms.
 template <odoloc::rtl::Gating G>
@@ -72,10 +40,11 @@ void step_four_eppms(benchmark::State& state) {
   IssueStimulus stimulus;
   for (auto _ : state) {
     for (int i = 0; i < 1024; ++i) {
-      const auto ab = stimulus.tick();
-      for (std::size_t w = 0; w < kEncoderCount; ++w) {
-        in[w].a = ab[w].bit<1>();
-        in[w].b = ab[w].bit<0>();
+      if (stimulus.tick()) {
+        for (std::size_t w = 0; w < kEncoderCount; ++w) {
+          in[w].a = stimulus.pins()[w].bit<1>();
+          in[w].b = stimulus.pins()[w].bit<0>();
+        }
       }
       fabric.step<G>(in, cfg);
     }
@@ -121,9 +90,8 @@ void BM_OdolocChip_CycleStep(benchmark::State& state) {
   IssueStimulus stimulus;
   for (auto _ : state) {
     for (int i = 0; i < 1024; ++i) {
-      const auto ab = stimulus.tick();
-      for (std::size_t w = 0; w < kEncoderCount; ++w)
-        pins.encoders[w] = ab[w];
+      if (stimulus.tick())
+        pins.encoders = stimulus.pins();
       chip.step(pins);
     }
     benchmark::DoNotOptimize(chip);

@@ -1,6 +1,7 @@
-// Activity gating is invisible: an EPPM stepped with Gating::kOn matches one
-// stepped with Gating::kOff register for register, clock for clock, under
-// random pins, strobes, resets and configuration changes; and every leaf
+// Activity gating is invisible: an EPPM stepped with Gating::kOn, and one
+// switching between kOn and kOff in runs, match one stepped with
+// Gating::kOff register for register, clock for clock, under random pins,
+// strobes, resets and configuration changes; and every leaf
 // block keeps its contract "idle(in) implies eval(in) == regs()".
 //
 // ODOLOC_TEST_SCALE multiplies the clock budgets (e.g. 0.1 for a quick run).
@@ -81,6 +82,8 @@ TEST(EppmGating, GatedAndUngatedAgreeEveryClock) {
     Rng rng(seed);
     Eppm gated;
     Eppm ungated;
+    Eppm mixed;  // the gating's bookkeeping survives ungated runs
+    bool mixed_gated = true;
     EppmConfig cfg = random_config(rng);
     bool busy = false;
     unsigned pins = 0;
@@ -105,17 +108,26 @@ TEST(EppmGating, GatedAndUngatedAgreeEveryClock) {
           std::tuple(ungated.conditioner(), ungated.decoder(), ungated.counter(), ungated.pulse());
       gated.step<Gating::kOn>(in, cfg);
       ungated.step<Gating::kOff>(in, cfg);
+      if (one_in(rng, 5000))
+        mixed_gated = !mixed_gated;
+      if (mixed_gated)
+        mixed.step<Gating::kOn>(in, cfg);
+      else
+        mixed.step<Gating::kOff>(in, cfg);
       if (before == std::tuple(ungated.conditioner(), ungated.decoder(), ungated.counter(),
                                ungated.pulse())) {
         ++quiet_clocks;
       }
-      const bool same =
-          gated.conditioner() == ungated.conditioner() && gated.decoder() == ungated.decoder() &&
-          gated.counter() == ungated.counter() && gated.timebase() == ungated.timebase() &&
-          gated.pulse() == ungated.pulse() && gated.period() == ungated.period() &&
-          gated.status(cfg).speed == ungated.status(cfg).speed;
-      ASSERT_TRUE(same) << "seed " << seed << " step " << k << ": "
-                        << odoloc::tb::first_difference(gated, ungated);
+      const auto same = [&](const Eppm& e) {
+        return e.conditioner() == ungated.conditioner() && e.decoder() == ungated.decoder() &&
+               e.counter() == ungated.counter() && e.timebase() == ungated.timebase() &&
+               e.pulse() == ungated.pulse() && e.period() == ungated.period() &&
+               e.status(cfg).speed == ungated.status(cfg).speed;
+      };
+      ASSERT_TRUE(same(gated)) << "seed " << seed << " step " << k << ": "
+                               << odoloc::tb::first_difference(gated, ungated);
+      ASSERT_TRUE(same(mixed)) << "seed " << seed << " step " << k << ", mixed gating: "
+                               << odoloc::tb::first_difference(mixed, ungated);
     }
     EXPECT_GT(quiet_clocks, clocks_per_seed / 4) << "seed " << seed << ": too little gating";
   }

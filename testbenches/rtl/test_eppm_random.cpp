@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "eppm_reference.hpp"
+#include "issue_stimulus.hpp"
 #include "odoloc/board/encoder_pins.hpp"
 #include "odoloc/rtl/eppm.hpp"
 #include "odoloc/world/quadrature_source.hpp"
@@ -307,6 +308,29 @@ TEST(EppmRandom, ConstantRateCountsEqualSourceEdges) {
       }
     }
   }
+}
+
+// The benchmarks' event-scheduled stimulus gives, every clock, the pins of
+// four sources ticked every clock at its rates (three steering reversals).
+TEST(EppmRandom, BenchmarkStimulusIsItsSourcesTickedEveryClock) {
+  using odoloc::tb::IssueStimulus;
+  IssueStimulus stimulus;
+  std::array<QuadratureSource, 4> sources;
+  for (std::uint64_t clock = 0; clock < 4 * IssueStimulus::kSteeringReversalClocks; ++clock) {
+    const IssueStimulus::Pins before = stimulus.pins();
+    const bool changed = stimulus.tick();
+    for (std::size_t w = 0; w < sources.size(); ++w) {
+      sources[w].set_rate(IssueStimulus::rate(w, clock));
+      const auto pins = odoloc::board::encoder_pins(sources[w].tick());
+      ASSERT_EQ(stimulus.pins()[w], pins) << "encoder " << w << ", clock " << clock;
+    }
+    ASSERT_EQ(changed, stimulus.pins() != before) << "clock " << clock;
+  }
+  // 5.24 ms at 50 k, 20 k, 125 k edges/s; the steering encoder back at 0.
+  EXPECT_EQ(sources[0].edges(), 262);
+  EXPECT_EQ(sources[1].edges(), 104);
+  EXPECT_EQ(sources[2].edges(), 655);
+  EXPECT_EQ(sources[3].edges(), 0);
 }
 
 }  // namespace

@@ -337,12 +337,14 @@ TEST(TofTimebase, EpochOnTheRollOverTick) {
   }
 }
 
-// Gated and ungated units agree on every register every clock under random
-// pins, commands, frames (snapshot then pops), configuration and resets.
+// Gated, ungated and mixed units (gated and ungated in runs: the gating's
+// bookkeeping survives them) agree on every register every clock under
+// random pins, commands, frames (snapshot then pops), configuration and
+// resets.
 TEST(TofCapture, GatedAndUngatedAgreeEveryClock) {
   for (std::uint64_t seed = 1; seed <= 4; ++seed) {
     Rng rng(seed);
-    UnitBench gated, ungated;
+    UnitBench gated, ungated, mixed;
     std::uint64_t quiet = 0;  // clocks in which nothing but the timebase changed
     const std::uint64_t clocks = odoloc::tb::scaled(300'000);
     for (std::uint64_t k = 0; k < clocks; ++k) {
@@ -370,17 +372,25 @@ TEST(TofCapture, GatedAndUngatedAgreeEveryClock) {
           c.window_close.ticks = UInt<32>::truncate(rng() % 200'000);
         }
         ungated.cfg = gated.cfg;
+        mixed.cfg = gated.cfg;
       }
       ungated.in = in;
+      mixed.in = in;
       const auto channels_before = ungated.unit.channel(0);
       const auto conditioner_before = ungated.unit.conditioner();
       gated.step<Gating::kOn>();
       ungated.step<Gating::kOff>();
+      if ((k / 1009) % 2 == 0)
+        mixed.step<Gating::kOn>();
+      else
+        mixed.step<Gating::kOff>();
       if (channels_before == ungated.unit.channel(0) &&
           conditioner_before == ungated.unit.conditioner())
         ++quiet;
       ASSERT_EQ(odoloc::tb::first_difference(gated.unit, ungated.unit), "")
           << "seed " << seed << " clock " << k;
+      ASSERT_EQ(odoloc::tb::first_difference(mixed.unit, ungated.unit), "")
+          << "seed " << seed << " clock " << k << ", mixed gating";
     }
     EXPECT_GT(quiet, clocks / 2) << "seed " << seed << ": too little gating";
   }

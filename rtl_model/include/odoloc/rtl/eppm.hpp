@@ -443,7 +443,9 @@ class Eppm {
           [&] { clock_block<G>(timebase_, timebase_in(in, cfg)); },
           [&] { clock_block<G>(pulse_, pulse_in(w, in, cfg)); },
           [&] { clock_block<G>(period_, period_in(w, in, cfg)); });
-    settled_ = settled();
+    // Only the gated step reads the bookkeeping; ungated, the next gated
+    // clock takes the full path and sets it.
+    settled_ = G == Gating::kOn && settled();
   }
   // Fast-forward (clocked.hpp): while quiet, only the timebase and the
   // period meter's count move, until the window ends. A pin change reaching
