@@ -65,7 +65,7 @@ def gnuplot_script(points, data_dir, output):
         "set format y '%.0s%c'",
         "set ylabel 'clocks/s'",
         "set grid",
-        "set key right center box opaque",
+        "set key left center box opaque",
     ]
     for family, (_, label, log_x) in PANELS.items():
         lines.append("set logscale x; set xtics auto" if log_x else "unset logscale x; set xtics 1")
