@@ -8,6 +8,7 @@
 #   host_tools/world/   the C++ standard library and odoloc/world/... only
 #   host_tools/board/   never odoloc/cli/
 #   host_tools/sweep/   never odoloc/cli/ (the host tool sits on the sweep library)
+#   host_tools/lcm/     never odoloc/rtl/ (transport code does not know the model)
 #   hls/include, hls/src  the standard library, odoloc/hls/, the model's C++14
 #                       constant headers (odoloc/rtl/*_constants.hpp) and the
 #                       vendors' type headers only: kernels are exported alone
@@ -116,6 +117,8 @@ check_layer(host_tools/board "the board never includes the host tool"
             DENY "^odoloc/cli/")
 check_layer(host_tools/sweep "the sweep library never includes the host tool"
             DENY "^odoloc/cli/")
+check_layer(host_tools/lcm "the LCM message layer never includes the model"
+            DENY "^odoloc/rtl/")
 foreach(dir hls/include hls/src)
   check_layer(${dir} "a kernel includes only odoloc/hls/, the model's constant headers and the vendor's"
               ALLOW_STD ALLOW "^odoloc/hls/" "^odoloc/rtl/[a-z_0-9]+_constants\\.hpp$"

@@ -15,6 +15,7 @@
 #include "odoloc/rtl/encoder_fabric.hpp"
 #include "odoloc/sw/kleeman_solver.hpp"
 #include "odoloc/sw/multilateration.hpp"
+#include "odoloc/sw/pose_ekf.hpp"
 #include "odoloc/sw/spi_frame.hpp"
 #include "odoloc/world/acoustic_systems.hpp"
 #include "odoloc/world/acoustics.hpp"
@@ -386,6 +387,46 @@ void BM_Fix_KleemanTriple(benchmark::State& state) {
     benchmark::DoNotOptimize(odoloc::sw::locate::solve_triple(layout, set, {0, 2, 4}, {4.4, 5.5}));
 }
 BENCHMARK(BM_Fix_KleemanTriple);
+
+// The pose EKF (issue 14): one prediction from an odometry increment; one
+// position fix; one Kleeman cycle of six ranges with the common offset.
+void BM_Ekf_Predict(benchmark::State& state) {
+  namespace fuse = odoloc::sw::fuse;
+  fuse::EkfOptions options;
+  options.history_s = 0;  // the predict alone, no history kept
+  fuse::PoseEkf ekf(options);
+  ekf.initialise(0, fuse::Pose{}, fuse::Matrix3::Identity() * 1e-2);
+  double t = 0;
+  for (auto _ : state)
+    benchmark::DoNotOptimize(ekf.predict(t += 0.01, fuse::Increment{{0.01, 0.0, 0.001}}));
+}
+BENCHMARK(BM_Ekf_Predict);
+
+void BM_Ekf_Update(benchmark::State& state) {
+  namespace fuse = odoloc::sw::fuse;
+  const odoloc::sw::locate::BeaconLayout layout = odoloc::tb::kleeman_layout();
+  const fuse::Vector2 robot(3.7, 6.2);
+  fuse::RangeSet cycle;
+  for (const odoloc::sw::locate::Beacon& b : layout.beacons) {
+    const fuse::Vector2 at(b.position_m.x, b.position_m.y);
+    cycle.ranges.push_back(
+        {at, b.height_m, std::hypot((robot - at).norm(), b.height_m) + 0.3, 0.002});
+  }
+  const fuse::PositionFix fix{robot, fuse::Matrix2::Identity() * 1e-4};
+  fuse::EkfOptions options;
+  options.history_s = 0;
+  fuse::PoseEkf ekf(options);
+  ekf.initialise(0, fuse::Pose{{3.71, 6.19, 0.4}}, fuse::Matrix3::Identity() * 1e-2);
+  double t = 0;
+  for (auto _ : state) {  // the same measurement again: the same work each time
+    if (state.range(0) != 0)
+      benchmark::DoNotOptimize(ekf.update(t += 0.01, cycle));
+    else
+      benchmark::DoNotOptimize(ekf.update(t += 0.01, fix));
+  }
+  state.SetLabel(state.range(0) != 0 ? "six beacon ranges, common offset" : "position fix");
+}
+BENCHMARK(BM_Ekf_Update)->Arg(0)->Arg(1);
 
 }  // namespace
 
