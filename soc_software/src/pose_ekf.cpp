@@ -5,9 +5,11 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace odoloc::sw::fuse {
 
@@ -320,7 +322,7 @@ Outcome PoseEkf::fuse(State& s, const Measurement& m, const Outcome* replaying) 
             return correct<3, 2>(s.x, s.P, MeasurementType::kBodyPointFix,
                                  Vector2(f.position_m - predicted), H, f.covariance_m2, replaying);
           },
-          [&](const RangeSet& set) { return fuse_ranges(s, set, replaying); },
+          [&](const RangeSet& set) { return fuse_range_set(s, set, replaying); },
           [&](const HeadingFix& h) {
             return scalar(MeasurementType::kHeading, wrap_angle(h.heading_rad - theta), H1(0, 0, 1),
                           h.sd_rad);
@@ -361,6 +363,43 @@ Outcome PoseEkf::fuse(State& s, const Measurement& m, const Outcome* replaying) 
       m);
 }
 
+Outcome PoseEkf::fuse_range_set(State& s, const RangeSet& set, const Outcome* replaying) {
+  constexpr auto kType = static_cast<std::size_t>(MeasurementType::kBeaconRange);
+  const State prior = s;
+  const Outcome outcome = fuse_ranges(s, set, replaying);
+  const bool reopen =
+      replaying != nullptr
+          ? *replaying == Outcome::kReopened
+          : outcome == Outcome::kGated &&
+                stats_[kType].rejected_in_row > options_.gate.reopen_after &&
+                last_time_s_ - rejected_since_[kType] >= options_.gate.reopen_after_s;
+  if (!reopen)
+    return outcome;
+  // Back in after a run of rejected sets: the position's prior is
+  // discredited. Its variance grows by offset_sd_m^2 and its correlation
+  // with the heading is dropped (ranges do not see the heading), and the
+  // set is fused again from its own result until the position settles: an
+  // iterated EKF from a wide prior, the data used once per pass.
+  Matrix3 wide = prior.P;
+  wide.topLeftCorner<2, 2>() += Matrix2::Identity() * set.offset_sd_m * set.offset_sd_m;
+  wide.block<2, 1>(0, 2).setZero();
+  wide.block<1, 2>(2, 0).setZero();
+  static constexpr Outcome kQuiet = Outcome::kAccepted;  // gated, not counted
+  s = prior;
+  for (int pass = 0; pass < 10; ++pass) {
+    State again{s.x, wide};
+    fuse_ranges(again, set, &kQuiet);
+    const double moved = (again.x.head<2>() - s.x.head<2>()).norm();
+    s = again;
+    if (moved < 1e-4)
+      break;
+  }
+  record(MeasurementType::kBeaconRange, Outcome::kReopened, 0, replaying);
+  if (replaying == nullptr)
+    stats_[kType].rejected_in_row = 0;
+  return Outcome::kReopened;
+}
+
 Outcome PoseEkf::fuse_ranges(State& s, const RangeSet& set, const Outcome* replaying) {
   constexpr MeasurementType kType = MeasurementType::kBeaconRange;
   if (set.ranges.empty()) {
@@ -374,56 +413,119 @@ Outcome PoseEkf::fuse_ranges(State& s, const RangeSet& set, const Outcome* repla
   };
   Vector4 x;
   x << s.x, 0;
-  // The offset's prior: the median of measured minus predicted; the beacons
-  // closest to it first, so an echo (long) meets a settled offset and the gate.
-  std::vector<double> offsets;
-  for (const BeaconRange& r : set.ranges)
-    offsets.push_back(r.distance_m - predicted_range(x, r));
-  std::vector<double> sorted = offsets;
-  std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2),
-                   sorted.end());
-  const double median = sorted[sorted.size() / 2];
-  x(3) = median;
-  std::vector<std::size_t> order(set.ranges.size());
-  for (std::size_t i = 0; i < order.size(); ++i)
-    order[i] = i;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return std::abs(offsets[a] - median) < std::abs(offsets[b] - median);
-  });
+  // The offset's prior: each beacon's measured minus predicted range, with
+  // its variance from the position's uncertainty and the range's noise. The
+  // direct paths agree on one offset, and an echo only ever adds its detour:
+  // the prior is the smallest offset another one agrees with within 3 sigma
+  // (the earliest consistent pair; without a pair, the smallest), and its
+  // range the reference. Echoes off one wall may agree with each other, but
+  // they come later than the direct paths.
+  const std::size_t n = set.ranges.size();
+  std::vector<double> offsets(n), variances(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const BeaconRange& r = set.ranges[i];
+    const double rho = predicted_range(x, r);
+    const Vector2 g =
+        rho < kMinDistanceM ? Vector2::Zero() : Vector2((x.head<2>() - r.beacon_m) / rho);
+    offsets[i] = r.distance_m - rho;
+    variances[i] = g.dot(s.P.topLeftCorner<2, 2>() * g) + r.sd_m * r.sd_m;
+  }
+  std::size_t prior = 0;
+  bool paired = false;
+  for (std::size_t i = 0; i < n; ++i) {
+    bool agrees = false;
+    for (std::size_t j = 0; j < n; ++j)
+      agrees |=
+          j != i && std::abs(offsets[i] - offsets[j]) <= 3 * std::sqrt(variances[i] + variances[j]);
+    if ((agrees && !paired) || (agrees == paired && offsets[i] < offsets[prior])) {
+      paired = agrees;
+      prior = i;
+    }
+  }
+  x(3) = offsets[prior];
   Matrix4 P = Matrix4::Zero();
   P.topLeftCorner<3, 3>() = s.P;
   P(3, 3) = set.offset_sd_m * set.offset_sd_m;
-  Outcome overall = Outcome::kGated;
-  bool degenerate = true;
-  for (const std::size_t i : order) {
-    const BeaconRange& r = set.ranges[i];
+  // One range's residual and Jacobian at the running estimate (false: the
+  // robot stands on the beacon, no direction).
+  const auto linearise = [&](const BeaconRange& r, double& nu, Eigen::Matrix<double, 1, 4>& H) {
     const double rho = predicted_range(x, r);
     if (rho < kMinDistanceM)
-      continue;
-    degenerate = false;
+      return false;
     const Vector2 e = x.head<2>() - r.beacon_m;
-    const Eigen::Matrix<double, 1, 4> H(e.x() / rho, e.y() / rho, 0, 1);
-    const Outcome o =
-        correct<4, 1>(x, P, kType, Eigen::Matrix<double, 1, 1>(r.distance_m - rho - x(3)), H,
-                      Eigen::Matrix<double, 1, 1>(r.sd_m * r.sd_m), replaying);
-    if (is_absolute(o))
-      overall = overall == Outcome::kReopened ? overall : o;
+    H << e.x() / rho, e.y() / rho, 0, 1;
+    nu = r.distance_m - rho - x(3);
+    return true;
+  };
+  // The reference first; then, each time, the range that fits best (the
+  // smallest NIS at the running estimate), so the direct paths settle the
+  // pose before any echo is looked at.
+  std::vector<std::size_t> left;
+  for (std::size_t i = 0; i < n; ++i)
+    if (i != prior)
+      left.push_back(i);
+  int fused = 0;  // ranges fused, the reference included
+  int passed = 0, gated = 0;
+  for (std::size_t next = prior;;) {
+    const BeaconRange& r = set.ranges[next];
+    double nu = 0;
+    Eigen::Matrix<double, 1, 4> H;
+    if (linearise(r, nu, H)) {
+      // The first range fused pins the offset: with the offset's prior so
+      // wide it says next to nothing about the pose (it is the reference of
+      // the differences, a TDoA filter's anchor), so it is neither gated nor
+      // counted. n ranges are n - 1 measurements.
+      const bool pins_offset = fused++ == 0;
+      const Outcome o =
+          correct<4, 1>(x, P, kType, Eigen::Matrix<double, 1, 1>(nu), H,
+                        Eigen::Matrix<double, 1, 1>(r.sd_m * r.sd_m), replaying, pins_offset);
+      if (!pins_offset)
+        (o == Outcome::kGated ? gated : passed) += 1;
+    }
+    if (left.empty())
+      break;
+    auto best = left.begin();
+    double best_nis = std::numeric_limits<double>::infinity();
+    for (auto it = left.begin(); it != left.end(); ++it) {
+      double nu_i = 0;
+      Eigen::Matrix<double, 1, 4> H_i;
+      if (!linearise(set.ranges[*it], nu_i, H_i)) {
+        best = it;  // no direction: dropped next, whatever the others
+        break;
+      }
+      const double S =
+          (H_i * P * H_i.transpose())(0, 0) + set.ranges[*it].sd_m * set.ranges[*it].sd_m;
+      if (nu_i * nu_i / S < best_nis) {
+        best_nis = nu_i * nu_i / S;
+        best = it;
+      }
+    }
+    next = *best;
+    left.erase(best);
   }
-  if (degenerate) {
+  // The set is a rejection when more of its ranges were gated than fused.
+  if (replaying == nullptr && fused >= 2) {
+    if (gated > passed)
+      count_rejection(kType);
+    else
+      stats_[static_cast<std::size_t>(kType)].rejected_in_row = 0;
+  }
+  if (fused < 2) {  // no range, or the reference alone: nothing about the pose
     record(kType, Outcome::kDegenerate, 0, replaying);
     return Outcome::kDegenerate;
   }
   s.x = x.head<3>();
   s.P = P.topLeftCorner<3, 3>();
   condition(s.P);
-  return overall;
+  return gated > passed ? Outcome::kGated : Outcome::kAccepted;
 }
 
 template <int N, int Rows>
 Outcome PoseEkf::correct(Eigen::Matrix<double, N, 1>& x, Eigen::Matrix<double, N, N>& P,
                          MeasurementType type, const Eigen::Matrix<double, Rows, 1>& nu,
                          const Eigen::Matrix<double, Rows, N>& H,
-                         const Eigen::Matrix<double, Rows, Rows>& R, const Outcome* replaying) {
+                         const Eigen::Matrix<double, Rows, Rows>& R, const Outcome* replaying,
+                         bool ungated) {
   using MatrixR = Eigen::Matrix<double, Rows, Rows>;
   const auto nis_of = [&](const Eigen::Matrix<double, N, N>& P_, MatrixR& S) {
     S = H * P_ * H.transpose() + R;
@@ -437,21 +539,36 @@ Outcome PoseEkf::correct(Eigen::Matrix<double, N, 1>& x, Eigen::Matrix<double, N
   }
   Outcome outcome = Outcome::kAccepted;
   const double limit = gates_[Rows];
-  if (options_.gate.enabled && nis > limit) {
+  if (options_.gate.enabled && !ungated && nis > limit) {
     const TypeStats& st = stats_[static_cast<std::size_t>(type)];
-    const bool reopen = replaying != nullptr
-                            ? *replaying == Outcome::kReopened
-                            : st.rejected_in_row >= options_.gate.reopen_after &&
-                                  last_time_s_ - rejected_since_[static_cast<std::size_t>(type)] >=
-                                      options_.gate.reopen_after_s;
+    // A range set reopens as a whole (fuse_range_set), not range by range.
+    const bool reopen = type != MeasurementType::kBeaconRange &&
+                        (replaying != nullptr
+                             ? *replaying == Outcome::kReopened
+                             : st.rejected_in_row >= options_.gate.reopen_after &&
+                                   last_time_s_ - rejected_since_[static_cast<std::size_t>(type)] >=
+                                       options_.gate.reopen_after_s);
     if (!reopen) {
       record(type, Outcome::kGated, nis, replaying);
       return Outcome::kGated;
     }
-    // Back in: P grows until this measurement fits the gate.
-    for (int i = 0; i < 200 && nis > limit; ++i)
-      nis = nis_of(P *= 2, S);
+    // Back in: the variances of the states this measurement sees (the
+    // columns of H it uses) grow, their correlations kept, until it is one
+    // sigma from the prediction (NIS <= its dimension: the discredited prior
+    // no longer holds it back); the others stay (a range does not unsettle
+    // the heading). The run ends here, so the rest of a range set meets the
+    // gate again.
+    Eigen::Matrix<double, N, 1> grow = Eigen::Matrix<double, N, 1>::Ones();
+    for (int j = 0; j < N; ++j)
+      if (H.col(j).cwiseAbs().maxCoeff() > 0)
+        grow(j) = std::sqrt(2.0);
+    for (int i = 0; i < 200 && nis > Rows; ++i) {
+      P = grow.asDiagonal() * P * grow.asDiagonal();
+      nis = nis_of(P, S);
+    }
     outcome = Outcome::kReopened;
+    if (replaying == nullptr)
+      stats_[static_cast<std::size_t>(type)].rejected_in_row = 0;
   }
   const Eigen::Matrix<double, N, Rows> K = P * H.transpose() * S.inverse();
   x += K * nu;
@@ -459,7 +576,8 @@ Outcome PoseEkf::correct(Eigen::Matrix<double, N, 1>& x, Eigen::Matrix<double, N
   const Eigen::Matrix<double, N, N> IKH = Eigen::Matrix<double, N, N>::Identity() - K * H;
   P = IKH * P * IKH.transpose() + K * R * K.transpose();  // Joseph form: stays symmetric PSD
   condition(P);
-  record(type, outcome, nis, replaying);
+  if (!ungated)
+    record(type, outcome, nis, replaying);
   return outcome;
 }
 
@@ -480,16 +598,21 @@ void PoseEkf::record(MeasurementType type, Outcome outcome, double nis, const Ou
     return;
   const auto i = static_cast<std::size_t>(type);
   TypeStats& st = stats_[i];
+  // A range set's run of rejections is counted per set (fuse_ranges): a
+  // pair of beacons whose difference a wrong pose happens to fit would
+  // otherwise end every run.
+  const bool per_set = type == MeasurementType::kBeaconRange;
   switch (outcome) {
     case Outcome::kAccepted:
     case Outcome::kReopened:
       ++(outcome == Outcome::kAccepted ? st.accepted : st.reopened);
-      st.rejected_in_row = 0;
+      if (!per_set)
+        st.rejected_in_row = 0;
       st.last_nis = nis;
       break;
     case Outcome::kGated:
-      if (st.rejected_in_row++ == 0)
-        rejected_since_[i] = last_time_s_;
+      if (!per_set)
+        count_rejection(type);
       ++st.gated;
       st.last_nis = nis;
       break;
@@ -497,6 +620,12 @@ void PoseEkf::record(MeasurementType type, Outcome outcome, double nis, const Ou
       ++st.refused;
       break;
   }
+}
+
+void PoseEkf::count_rejection(MeasurementType type) {
+  const auto i = static_cast<std::size_t>(type);
+  if (stats_[i].rejected_in_row++ == 0)
+    rejected_since_[i] = last_time_s_;
 }
 
 Estimate PoseEkf::estimate() const {

@@ -23,8 +23,10 @@
 //     (Kleeman's cycle): z_i = sqrt(|p - b_i|^2 + h_i^2) + c, one scalar
 //     update per beacon with the offset c as a temporary fourth state (the
 //     Crazyflie's TDoA filter fuses one scalar per anchor pair: the same
-//     information once c is eliminated), beacons in the order of their
-//     agreement with the median offset so an echo comes last and is gated;
+//     information once c is eliminated). The first range pins c (the
+//     earliest pair of agreeing offsets: echoes only add their detour) and
+//     is not gated; then the best-fitting range each time, so an echo comes
+//     last and is gated;
 //   - HeadingFix: z = theta (directions of arrival, sw::locate::beacon_heading);
 //   - StationBearing: z = atan2(y - y_s, x - x_s), the station's laser angle
 //     of the robot (Liu alpha);
@@ -37,10 +39,13 @@
 // Gate: the normalised innovation squared NIS = nu^T S^-1 nu against the
 // chi-square quantile of the measurement's dimension at GateOptions::
 // probability, per measurement type. A type rejected `reopen_after`
-// times in a row over at least `reopen_after_s` is let back in: P is
-// inflated (doubled until the measurement passes) and the update applied,
-// so the filter is never locked out for good (Liu gates on a fixed
-// distance; a robot that slipped further than it never recovers).
+// times in a row over at least `reopen_after_s` is let back in, so the
+// filter is never locked out for good (Liu gates on a fixed distance; a
+// robot that slipped further than it never recovers): the variances of the
+// states the measurement sees grow until it is one sigma away, then it is
+// fused; a beacon cycle (one rejection when most of its ranges are gated)
+// is fused again from a position prior widened by offset_sd_m until it
+// settles (docs/fusion.md, "The gate, and the way back in").
 //
 // Late measurements: the filter keeps the last `history_s` seconds of
 // inputs with the state before each. A measurement older than the newest
@@ -112,7 +117,7 @@ struct BeaconRange {
 };
 struct RangeSet {
   std::vector<BeaconRange> ranges;
-  double offset_sd_m = 10;  // prior on the common offset about the ranges' median
+  double offset_sd_m = 10;  // prior on the common offset about the one most ranges share
 };
 struct HeadingFix {
   double heading_rad = 0;
@@ -255,18 +260,24 @@ class PoseEkf {
 
   Outcome apply(State& s, double time_s, const Input& input, const Outcome* replaying);
   Outcome fuse(State& s, const Measurement& m, const Outcome* replaying);
+  // A range set; reopened, fused again until it settles (fuse_ranges: one pass).
+  Outcome fuse_range_set(State& s, const RangeSet& set, const Outcome* replaying);
   Outcome fuse_ranges(State& s, const RangeSet& set, const Outcome* replaying);
   // The gate and the Joseph update of one linearised measurement on an
   // N-dimensional state (the pose, or the pose and a range offset):
-  // residual nu (angles already wrapped), Jacobian H, noise R.
+  // residual nu (angles already wrapped), Jacobian H, noise R. `ungated`:
+  // applied without the gate and not counted (a range set's reference).
   template <int N, int Rows>
   Outcome correct(Eigen::Matrix<double, N, 1>& x, Eigen::Matrix<double, N, N>& P,
                   MeasurementType type, const Eigen::Matrix<double, Rows, 1>& nu,
                   const Eigen::Matrix<double, Rows, N>& H,
-                  const Eigen::Matrix<double, Rows, Rows>& R, const Outcome* replaying);
+                  const Eigen::Matrix<double, Rows, Rows>& R, const Outcome* replaying,
+                  bool ungated = false);
   template <int N>
   void condition(Eigen::Matrix<double, N, N>& P) const;
   void record(MeasurementType type, Outcome outcome, double nis, const Outcome* replaying);
+  // One more rejection in the type's run (its start time kept).
+  void count_rejection(MeasurementType type);
   Outcome insert(double time_s, const Input& input);
 
   EkfOptions options_;
