@@ -367,12 +367,11 @@ Outcome PoseEkf::fuse_range_set(State& s, const RangeSet& set, const Outcome* re
   constexpr auto kType = static_cast<std::size_t>(MeasurementType::kBeaconRange);
   const State prior = s;
   const Outcome outcome = fuse_ranges(s, set, replaying);
-  const bool reopen =
-      replaying != nullptr
-          ? *replaying == Outcome::kReopened
-          : outcome == Outcome::kGated &&
-                stats_[kType].rejected_in_row > options_.gate.reopen_after &&
-                last_time_s_ - rejected_since_[kType] >= options_.gate.reopen_after_s;
+  // This set's rejection is already counted in the run (fuse_ranges).
+  const bool reopen = replaying != nullptr
+                          ? *replaying == Outcome::kReopened
+                          : outcome == Outcome::kGated && run_ends(MeasurementType::kBeaconRange,
+                                                                   stats_[kType].rejected_in_row);
   if (!reopen)
     return outcome;
   // Back in after a run of rejected sets: the position's prior is
@@ -540,14 +539,12 @@ Outcome PoseEkf::correct(Eigen::Matrix<double, N, 1>& x, Eigen::Matrix<double, N
   Outcome outcome = Outcome::kAccepted;
   const double limit = gates_[Rows];
   if (options_.gate.enabled && !ungated && nis > limit) {
-    const TypeStats& st = stats_[static_cast<std::size_t>(type)];
     // A range set reopens as a whole (fuse_range_set), not range by range.
-    const bool reopen = type != MeasurementType::kBeaconRange &&
-                        (replaying != nullptr
-                             ? *replaying == Outcome::kReopened
-                             : st.rejected_in_row >= options_.gate.reopen_after &&
-                                   last_time_s_ - rejected_since_[static_cast<std::size_t>(type)] >=
-                                       options_.gate.reopen_after_s);
+    const bool reopen =
+        type != MeasurementType::kBeaconRange &&
+        (replaying != nullptr
+             ? *replaying == Outcome::kReopened
+             : run_ends(type, stats_[static_cast<std::size_t>(type)].rejected_in_row + 1));
     if (!reopen) {
       record(type, Outcome::kGated, nis, replaying);
       return Outcome::kGated;
@@ -620,6 +617,12 @@ void PoseEkf::record(MeasurementType type, Outcome outcome, double nis, const Ou
       ++st.refused;
       break;
   }
+}
+
+bool PoseEkf::run_ends(MeasurementType type, int rejections) const {
+  return rejections > options_.gate.reopen_after &&
+         last_time_s_ - rejected_since_[static_cast<std::size_t>(type)] >=
+             options_.gate.reopen_after_s;
 }
 
 void PoseEkf::count_rejection(MeasurementType type) {

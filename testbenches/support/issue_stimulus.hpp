@@ -1,5 +1,5 @@
 // Issue 13's encoder stimulus, the one Verilator was measured under, for the
-// per-clock benchmarks (odoloc_bench) and its own check (test_pin_hold).
+// per-clock benchmarks (odoloc_bench) and its own check (test_eppm_random).
 #pragma once
 
 #include <array>

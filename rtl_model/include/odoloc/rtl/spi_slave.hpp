@@ -509,7 +509,7 @@ class SpiSlave {
       order([&] { clock_block<G>(synchroniser_, w.synchroniser); },
             [&] { clock_block<G>(engine_, w.engine); }, [&] { clock_block<G>(buffer_, w.buffer); });
     }
-    settled_ = G == Gating::kOn && settled();  // read by the gated step only (Eppm::step)
+    settled_ = G == Gating::kOn && settled();  // only the gated step reads it
   }
   // The synchroniser idle on the pins it last took and no strobe out: then
   // the whole slave is idle for the same pins, no reset and no refused write.

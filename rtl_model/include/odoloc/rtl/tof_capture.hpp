@@ -518,7 +518,7 @@ class TofCapture {
             [&] { clock_block<G>(channels_[I], channel_in(I, w, in, cfg)); }...);
     }
     (std::make_index_sequence<Channels>{});
-    settled_ = G == Gating::kOn && settled();  // read by the gated step only (Eppm::step)
+    settled_ = G == Gating::kOn && settled();  // only the gated step reads it
   }
   // Every channel and the sync input have seen the conditioned levels, the
   // conditioner holds its pins and the last clock carried no control:

@@ -278,6 +278,9 @@ class PoseEkf {
   void record(MeasurementType type, Outcome outcome, double nis, const Outcome* replaying);
   // One more rejection in the type's run (its start time kept).
   void count_rejection(MeasurementType type);
+  // Whether `rejections` in a row of `type`, this one included, let it back
+  // in: more than gate.reopen_after, over at least gate.reopen_after_s.
+  [[nodiscard]] bool run_ends(MeasurementType type, int rejections) const;
   Outcome insert(double time_s, const Input& input);
 
   EkfOptions options_;
