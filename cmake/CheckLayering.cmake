@@ -9,6 +9,12 @@
 #   host_tools/board/   never odoloc/cli/
 #   host_tools/sweep/   never odoloc/cli/ (the host tool sits on the sweep library)
 #   host_tools/lcm/     never odoloc/rtl/ (transport code does not know the model)
+#   host_tools/plot/    the standard library, fmt, LCM, odoloc/lcm/ and its
+#                       generated odoloc_lcm/, odoloc/process/ and odoloc/plot/
+#                       only: it reads logs, it knows nothing of the model
+#   host_tools/sim/     never odoloc/cli/ (the host tool's `sim` sits on it)
+#   host_tools/bridge/  never odoloc/rtl/, odoloc/world/, odoloc/board/, odoloc/cli/: the
+#                       register bridge knows LCM, sw::RegisterBus and the register map
 #   hls/include, hls/src  the standard library, odoloc/hls/, the model's C++14
 #                       constant headers (odoloc/rtl/*_constants.hpp) and the
 #                       vendors' type headers only: kernels are exported alone
@@ -20,7 +26,8 @@
 # testbenches/CMakeLists.txt) holds what the layer targets link, so the CMake
 # targets are checked the same way: odoloc_world links nothing but the
 # warning flags, odoloc_rtl and odoloc_sw link no host-tool target and not
-# each other.
+# each other, odoloc_bridge links neither the model nor the board, odoloc_plot
+# only the LCM layer, odoloc_process and fmt.
 cmake_minimum_required(VERSION 3.25)
 
 if(NOT SOURCE_DIR)
@@ -119,6 +126,14 @@ check_layer(host_tools/sweep "the sweep library never includes the host tool"
             DENY "^odoloc/cli/")
 check_layer(host_tools/lcm "the LCM message layer never includes the model"
             DENY "^odoloc/rtl/")
+check_layer(host_tools/plot
+            "the plot library includes only the standard library, fmt, LCM, its message layer, odoloc/process/ and odoloc/plot/"
+            ALLOW_STD ALLOW "^odoloc/plot/" "^odoloc/lcm/" "^odoloc_lcm/" "^odoloc/process/"
+                            "^lcm/" "^fmt/" "^(stdlib|unistd)\\.h$")
+check_layer(host_tools/sim "the simulator never includes the host tool" DENY "^odoloc/cli/")
+check_layer(host_tools/bridge
+            "the register bridge never includes the model, the world, the board or the tool"
+            DENY "^odoloc/rtl/" "^odoloc/world/" "^odoloc/board/" "^odoloc/cli/")
 foreach(dir hls/include hls/src)
   check_layer(${dir} "a kernel includes only odoloc/hls/, the model's constant headers and the vendor's"
               ALLOW_STD ALLOW "^odoloc/hls/" "^odoloc/rtl/[a-z_0-9]+_constants\\.hpp$"
@@ -168,12 +183,17 @@ endfunction()
 
 if(LINKS_FILE)
   include(${LINKS_FILE})
-  set(host_tool_targets odoloc_world odoloc_board odoloc_sweep odoloc_cli_lib)
+  set(host_tool_targets odoloc_world odoloc_board odoloc_sweep odoloc_plot odoloc_sim
+                        odoloc_cli_lib)
   check_links(odoloc_world "the world links nothing but the warning flags"
               ALLOW odoloc_warnings)
   check_links(odoloc_rtl "the model links no software or host-tool target"
               DENY odoloc_sw ${host_tool_targets})
   check_links(odoloc_sw "the SoC software links no model or host-tool target"
+              DENY odoloc_rtl ${host_tool_targets})
+  check_links(odoloc_plot "the plot library links only the LCM layer, process, fmt and the warnings"
+              ALLOW odoloc_lcm odoloc_process fmt::fmt odoloc_warnings)
+  check_links(odoloc_bridge "the register bridge links no model, world, board or tool target"
               DENY odoloc_rtl ${host_tool_targets})
 endif()
 

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Quick start 1: the main job on its embedded default scenario.
+# Quick start 1: the main job on its embedded default scenario: the whole
+# localisation system (docs/simulator.md), writing odoloc-sim/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/build.sh default
-exec build/default/host_tools/demo/odoloc_demo "$@"
+exec build/default/host_tools/cli/odoloc sim --out odoloc-sim "$@"

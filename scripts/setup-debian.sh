@@ -11,7 +11,7 @@ packages=(
   libeigen3-dev  # the beacon solvers and the fusion filter
   clang libclang-rt-14-dev  # libFuzzer for the bounded fuzz runs (ctest label fuzz)
   clang-tidy python3  # the HLS synthesizability lint, with clang (ctest label lint)
-  gnuplot-nox  # the demo's trajectory plot
+  gnuplot-nox  # the demo's trajectory plot, odoloc plot, locate --plot, sweep merge
   liblcm-dev liblcm-bin libglib2.0-dev  # LCM messages, lcm-gen, lcm-logger/-logplayer (lcm.pc needs glib)
 )
 if [ "${1:-}" = "--tests" ]; then

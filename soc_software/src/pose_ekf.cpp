@@ -407,8 +407,12 @@ Outcome PoseEkf::fuse_ranges(State& s, const RangeSet& set, const Outcome* repla
   }
   using Vector4 = Eigen::Vector4d;
   using Matrix4 = Eigen::Matrix4d;
-  const auto predicted_range = [](const Vector4& x, const BeaconRange& r) {
-    return std::sqrt((x.head<2>() - r.beacon_m).squaredNorm() + r.height_m * r.height_m);
+  // The robot origin at the range's capture time, minus the beacon.
+  const auto beacon_to_robot = [](const Vector4& x, const BeaconRange& r) -> Vector2 {
+    return x.head<2>() + rotation(x(2)) * r.motion_m - r.beacon_m;
+  };
+  const auto predicted_range = [&](const Vector4& x, const BeaconRange& r) {
+    return std::sqrt(beacon_to_robot(x, r).squaredNorm() + r.height_m * r.height_m);
   };
   Vector4 x;
   x << s.x, 0;
@@ -424,8 +428,7 @@ Outcome PoseEkf::fuse_ranges(State& s, const RangeSet& set, const Outcome* repla
   for (std::size_t i = 0; i < n; ++i) {
     const BeaconRange& r = set.ranges[i];
     const double rho = predicted_range(x, r);
-    const Vector2 g =
-        rho < kMinDistanceM ? Vector2::Zero() : Vector2((x.head<2>() - r.beacon_m) / rho);
+    const Vector2 g = rho < kMinDistanceM ? Vector2::Zero() : Vector2(beacon_to_robot(x, r) / rho);
     offsets[i] = r.distance_m - rho;
     variances[i] = g.dot(s.P.topLeftCorner<2, 2>() * g) + r.sd_m * r.sd_m;
   }
@@ -451,8 +454,10 @@ Outcome PoseEkf::fuse_ranges(State& s, const RangeSet& set, const Outcome* repla
     const double rho = predicted_range(x, r);
     if (rho < kMinDistanceM)
       return false;
-    const Vector2 e = x.head<2>() - r.beacon_m;
-    H << e.x() / rho, e.y() / rho, 0, 1;
+    const Vector2 e = beacon_to_robot(x, r);
+    // d(R(theta) m)/dtheta = R(theta + pi/2) m.
+    const Vector2 turn = rotation(x(2) + kPi / 2) * r.motion_m;
+    H << e.x() / rho, e.y() / rho, e.dot(turn) / rho, 1;
     nu = r.distance_m - rho - x(3);
     return true;
   };

@@ -7,6 +7,11 @@
 //     every message of the sequence arrived, decoded and in order per
 //     channel (nothing missing, nothing extra, nothing malformed); prints
 //     what went wrong and exits 1 otherwise (or after TIMEOUT_S seconds).
+//   odoloc_lcm_peer subscribe-log URL READY_FILE LOG TIMEOUT_S
+//     the same, expecting every event of the LCM log LOG (`odoloc sim`'s)
+//     instead of the sequence.
+//   odoloc_lcm_peer garbage URL CHANNEL COUNT 0
+//     publishes COUNT messages of bytes that are no odoloc type on CHANNEL.
 //   odoloc_lcm_peer publish URL LOG_FILE TICKS TIMEOUT_S
 //     publishes on kProbeChannel until LOG_FILE (lcm-logger's output) grows,
 //     then the sequence, paced at one tick per millisecond, then probes
@@ -20,6 +25,7 @@
 #include <fstream>
 #include <lcm/lcm-cpp.hpp>
 #include <map>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -36,9 +42,21 @@ using odoloc::lcm::Receipt;
 namespace msg = odoloc::tb::lcm;
 using Bytes = std::vector<std::uint8_t>;
 
-int subscribe(const std::string& url, const std::string& ready_file, int ticks,
-              std::chrono::seconds timeout) {
-  const std::vector<msg::Event> expected = msg::drive_sequence(ticks);
+// Every event of an LCM log, in order.
+std::vector<msg::Event> log_events(const std::string& log_file) {
+  lcm::LogFile log(log_file, "r");
+  if (!log.good())
+    throw std::runtime_error("cannot read the log " + log_file);
+  std::vector<msg::Event> events;
+  for (const lcm::LogEvent* e = log.readNextEvent(); e != nullptr; e = log.readNextEvent()) {
+    const auto* data = static_cast<const std::uint8_t*>(e->data);
+    events.push_back({e->channel, {data, data + e->datalen}, e->timestamp});
+  }
+  return events;
+}
+
+int subscribe(const std::string& url, const std::string& ready_file,
+              const std::vector<msg::Event>& expected, std::chrono::seconds timeout) {
   Connection connection(url);
   std::map<std::string, std::vector<Bytes>> received;
   std::size_t total = 0;
@@ -134,16 +152,28 @@ int publish(const std::string& url, const std::string& log_file, int ticks,
 
 int main(int argc, char** argv) {
   const std::vector<std::string> args(argv + 1, argv + argc);
-  if (args.size() != 5 || (args[0] != "subscribe" && args[0] != "publish")) {
+  if (args.size() != 5 || (args[0] != "subscribe" && args[0] != "subscribe-log" &&
+                           args[0] != "publish" && args[0] != "garbage")) {
     std::fprintf(stderr,
                  "usage: odoloc_lcm_peer subscribe URL READY_FILE TICKS TIMEOUT_S\n"
+                 "       odoloc_lcm_peer subscribe-log URL READY_FILE LOG TIMEOUT_S\n"
+                 "       odoloc_lcm_peer garbage URL CHANNEL COUNT 0\n"
                  "       odoloc_lcm_peer publish URL LOG_FILE TICKS TIMEOUT_S\n");
     return 2;
   }
   try {
-    const int ticks = std::stoi(args[3]);
+    if (args[0] == "garbage") {
+      Connection connection(args[1]);
+      const char junk[] = "not an odoloc message";
+      for (int i = 0; i < std::stoi(args[3]); ++i)
+        connection.publish_raw(args[2], junk, sizeof junk - static_cast<std::size_t>(i % 5));
+      return 0;
+    }
     const std::chrono::seconds timeout{std::stoi(args[4])};
-    return args[0] == "subscribe" ? subscribe(args[1], args[2], ticks, timeout)
+    if (args[0] == "subscribe-log")
+      return subscribe(args[1], args[2], log_events(args[3]), timeout);
+    const int ticks = std::stoi(args[3]);
+    return args[0] == "subscribe" ? subscribe(args[1], args[2], msg::drive_sequence(ticks), timeout)
                                   : publish(args[1], args[2], ticks, timeout);
   } catch (const std::exception& e) {
     std::printf("odoloc_lcm_peer: %s\n", e.what());

@@ -184,6 +184,7 @@ void for_each_channel(F&& f) {
   f.template operator()<odoloc_lcm::tof_measurement_set_t>(channel::kTof);
   f.template operator()<odoloc_lcm::beacon_fix_t>(channel::kFix);
   f.template operator()<odoloc_lcm::pose_estimate_t>(channel::kPose);
+  f.template operator()<odoloc_lcm::pose_estimate_t>(channel::kTruth);
   f.template operator()<odoloc_lcm::register_request_t>(channel::kRegRequest);
   f.template operator()<odoloc_lcm::register_response_t>(channel::kRegResponse);
   f.template operator()<odoloc_lcm::sim_status_t>(channel::kSimStatus);

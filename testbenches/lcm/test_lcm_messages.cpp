@@ -186,7 +186,7 @@ TEST(LcmMessages, ChannelNamesAreDistinctLcmNames) {
     EXPECT_EQ(std::string(name).rfind("ODOLOC_", 0), 0U) << name;
     names.insert(name);
   });
-  EXPECT_EQ(names.size(), 8U);
+  EXPECT_EQ(names.size(), 9U);
   EXPECT_STREQ(odoloc::lcm::kDefaultUrl, "udpm://239.255.76.67:7667?ttl=0");
 }
 

@@ -10,9 +10,11 @@
 // process runs under a time limit.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <lcm/lcm-cpp.hpp>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -51,6 +53,32 @@ std::string namespace_unavailable() {
   if (r.ok())
     return "";
   return r.message.empty() ? "exit status " + std::to_string(r.exit_status) : r.message;
+}
+
+// Starts odoloc_lcm_peer with `peer_args` (in them $2 is the URL, $3 the
+// folder) in a private network namespace, waits until it has subscribed
+// (it creates $3/ready), replays `log` (relative to `dir`) with
+// lcm-logplayer and `player_options`, and waits for the peer's verdict,
+// which it writes to $3/subscriber.txt.
+ProgramResult replay_into_peer(const std::string& peer_args, const std::string& player_options,
+                               const std::string& log, const fs::path& dir) {
+  const std::string script = "\"$1\" " + peer_args + R"( >"$3/subscriber.txt" 2>&1 &
+subscriber=$!
+n=0
+while [ ! -e "$3/ready" ]; do
+  n=$((n + 1))
+  if [ $n -gt 1000 ]; then echo "the subscriber was not ready within 10 s"; kill $subscriber; exit 98; fi
+  sleep 0.01
+done
+if ! "$4" )" + player_options +
+                             R"( --lcm-url "$2" "$3/$5"; then
+  echo "lcm-logplayer failed"; kill $subscriber; exit 99
+fi
+wait $subscriber
+)";
+  return in_namespace(
+      script, {ODOLOC_LCM_PEER, odoloc::lcm::kDefaultUrl, dir.string(), ODOLOC_LCM_LOGPLAYER, log},
+      60, dir);
 }
 
 // The events of a log, in order.
@@ -92,26 +120,10 @@ TEST_F(LcmTools, LogplayerReplaysALogIntoASubscriberProcess) {
   const std::vector<msg::Event> events = msg::drive_sequence(kTicks);
   // Logged at the simulated times: lcm-logplayer keeps the 100 Hz pace.
   ASSERT_TRUE(msg::write_log((dir / "drive.lcmlog").string(), events));
-  // $1 peer, $2 URL, $3 folder, $4 lcm-logplayer, $5 ticks. The subscriber
-  // is ready once it has subscribed; the log plays at 4x (0.5 s).
-  const std::string script = R"(
-"$1" subscribe "$2" "$3/ready" "$5" 15 >"$3/subscriber.txt" 2>&1 &
-subscriber=$!
-n=0
-while [ ! -e "$3/ready" ]; do
-  n=$((n + 1))
-  if [ $n -gt 1000 ]; then echo "the subscriber was not ready within 10 s"; kill $subscriber; exit 98; fi
-  sleep 0.01
-done
-if ! "$4" --speed 4 --lcm-url "$2" "$3/drive.lcmlog"; then
-  echo "lcm-logplayer failed"; kill $subscriber; exit 99
-fi
-wait $subscriber
-)";
-  const ProgramResult r = in_namespace(script,
-                                       {ODOLOC_LCM_PEER, odoloc::lcm::kDefaultUrl, dir.string(),
-                                        ODOLOC_LCM_LOGPLAYER, std::to_string(kTicks)},
-                                       40, dir);
+  // The log plays at 4x (0.5 s).
+  const ProgramResult r =
+      replay_into_peer("subscribe \"$2\" \"$3/ready\" " + std::to_string(kTicks) + " 15",
+                       "--speed 4", "drive.lcmlog", dir);
   const std::string report = odoloc::tb::slurp(dir / "subscriber.txt");
   EXPECT_TRUE(r.ok()) << "exit " << r.exit_status << "\n" << r.message << "\n" << report;
   EXPECT_NE(
@@ -119,6 +131,90 @@ wait $subscriber
                   std::to_string(events.size()) + " messages on 8 channels, complete and in order"),
       std::string::npos)
       << report;
+}
+
+// `odoloc sim` writes a real LCM event log: every stage's channel is in it,
+// every event decodes as its channel's type, and lcm-logplayer replays the
+// whole of it, in order, into a subscriber process.
+TEST_F(LcmTools, SimulatorLogReplaysIntoASubscriberProcess) {
+  const fs::path dir = odoloc::tb::fresh_dir("odoloc_lcm_tools", "sim");
+  const ProgramResult sim = odoloc::process::run_program(
+      ODOLOC_CLI, {"sim", "--duration", "3", "--out", (dir / "run").string(), "--no-plot"}, dir);
+  ASSERT_TRUE(sim.ok()) << sim.message;
+  const fs::path log = dir / "run" / "odoloc.lcmlog";
+  std::map<std::string, int> per_channel;
+  int undecodable = 0;
+  for (const Logged& e : read_log(log)) {
+    ++per_channel[e.channel];
+    undecodable += msg::decodes_as_channel_type(e.channel, e.bytes.data(), e.bytes.size()) ? 0 : 1;
+  }
+  EXPECT_EQ(undecodable, 0);
+  // 3 s of the 100 Hz loop: truth, odometry and the min-select, rear,
+  // front and (after the first fix) fused poses every 10 ms; encoders every
+  // 100 ms; three beacon cycles of 0.9 s (the first locks).
+  EXPECT_EQ(per_channel[odoloc::lcm::channel::kTruth], 300);
+  EXPECT_EQ(per_channel[odoloc::lcm::channel::kOdometry], 300);
+  EXPECT_EQ(per_channel[odoloc::lcm::channel::kEncoders], 30);
+  EXPECT_GT(per_channel[odoloc::lcm::channel::kPose], 3 * 300);
+  EXPECT_GE(per_channel[odoloc::lcm::channel::kFix], 2);
+  EXPECT_EQ(per_channel[odoloc::lcm::channel::kTof], per_channel[odoloc::lcm::channel::kFix]);
+  // The log's event times are simulated: it plays at the robot's pace (3 s).
+  const ProgramResult r =
+      replay_into_peer("subscribe-log \"$2\" \"$3/ready\" \"$3/run/odoloc.lcmlog\" 20", "",
+                       "run/odoloc.lcmlog", dir);
+  const std::string report = odoloc::tb::slurp(dir / "subscriber.txt");
+  EXPECT_TRUE(r.ok()) << "exit " << r.exit_status << "\n" << r.message << "\n" << report;
+  int events = 0;
+  for (const auto& [channel, n] : per_channel)
+    events += n;
+  EXPECT_NE(report.find("subscriber: " + std::to_string(events) + " of " + std::to_string(events) +
+                        " messages on " + std::to_string(per_channel.size()) +
+                        " channels, complete and in order"),
+            std::string::npos)
+      << report;
+}
+
+// The register bridge of a running `odoloc sim`, from other processes over
+// udpm: `odoloc --target lcm reg read` gets the chip's words, a write is
+// refused (the simulator runs without --allow-write) and changes nothing,
+// garbage on the request channel is ignored and counted, and
+// `odoloc watch pose` prints the live estimate.
+TEST_F(LcmTools, SimulatorAnswersTheRegisterBridge) {
+  const fs::path dir = odoloc::tb::fresh_dir("odoloc_lcm_tools", "bridge");
+  // $1 odoloc, $2 URL, $3 folder, $4 peer.
+  const std::string script = R"(
+"$1" sim --realtime --duration 8 --lcm-url "$2" >"$3/sim.txt" 2>&1 &
+sim=$!
+n=0
+until "$1" --target "lcm:$2" reg read top.id >"$3/read.txt" 2>&1; do
+  n=$((n + 1))
+  if [ $n -gt 50 ]; then echo "no answer from the simulator"; kill $sim; exit 90; fi
+  sleep 0.1
+done
+"$1" --target "lcm:$2" reg write top.scratch=0x1234 >"$3/write.txt" 2>&1
+echo $? >"$3/write_status.txt"
+"$4" garbage "$2" ODOLOC_REG_REQUEST 7 0
+"$1" --target "lcm:$2" reg read top.scratch >"$3/scratch.txt" 2>&1 || { kill $sim; exit 91; }
+"$1" watch pose --source odometry --count 3 --lcm-url "$2" >"$3/pose.txt" 2>&1 || { kill $sim; exit 92; }
+wait $sim
+)";
+  const ProgramResult r = in_namespace(
+      script, {ODOLOC_CLI, odoloc::lcm::kDefaultUrl, dir.string(), ODOLOC_LCM_PEER}, 60, dir);
+  const std::string sim = odoloc::tb::slurp(dir / "sim.txt");
+  ASSERT_TRUE(r.ok()) << "exit " << r.exit_status << "\n" << r.message << "\n" << sim;
+  EXPECT_NE(odoloc::tb::slurp(dir / "read.txt").find("top.id @ 0x000 = 0x0d010002"),
+            std::string::npos);
+  const std::string write = odoloc::tb::slurp(dir / "write.txt");
+  EXPECT_NE(odoloc::tb::slurp(dir / "write_status.txt"), "0\n") << write;
+  EXPECT_NE(write.find("--allow-write"), std::string::npos) << write;
+  EXPECT_NE(odoloc::tb::slurp(dir / "scratch.txt").find("top.scratch @ 0x004 = 0x00000000"),
+            std::string::npos);
+  const std::string pose = odoloc::tb::slurp(dir / "pose.txt");
+  EXPECT_EQ(std::count(pose.begin(), pose.end(), '\n'), 4) << pose;  // a header and 3 estimates
+  // The simulator's closing line counts what the bridge saw.
+  EXPECT_NE(sim.find("register bridge: 2 served, 1 refused, 0 errors; 7 malformed messages"),
+            std::string::npos)
+      << sim;
 }
 
 TEST_F(LcmTools, LoggerRecordsAPublisherProcess) {

@@ -524,9 +524,23 @@ TEST(CliValues, CountsAndFrequencies) {
 TEST(CliTargets, SpecsAreCheckedWithoutOpening) {
   for (const char* good : {"sim", "sim:straight", "spidev:/dev/spidev0.0", "lcm", "lcm:udpm://x"})
     EXPECT_NO_THROW(cli::check_target_spec(good)) << good;
-  for (const char* bad : {"", "foo", "simulator", "spi:/dev/spidev0.0"})
+  for (const char* bad : {"", "foo", "simulator", "spi:/dev/spidev0.0", "lcmx"})
     EXPECT_THROW(cli::check_target_spec(bad), UsageError) << bad;
-  EXPECT_NE(message_of([] { (void)cli::open_target("lcm", {}); }).find("not available yet"),
+  // The lcm target frames nothing itself: the SPI options are refused before
+  // LCM is opened.
+  cli::TargetOptions crc, vcd, vcd_pins, cycle_step;
+  crc.crc = true;
+  vcd.vcd = "x.vcd";
+  vcd_pins.vcd_pins = "p.vcd";
+  cycle_step.cycle_step = true;
+  for (const cli::TargetOptions* options : {&crc, &vcd, &vcd_pins, &cycle_step})
+    EXPECT_NE(message_of([&] {
+                (void)cli::open_target("lcm", *options);
+              }).find("--crc, --vcd, --vcd-pins and --cycle-step"),
+              std::string::npos);
+  EXPECT_NE(message_of([] {
+              (void)cli::open_target("lcm:nowhere://", {});
+            }).find("cannot open 'nowhere://'"),
             std::string::npos);
 }
 

@@ -336,8 +336,8 @@ TEST(CliE2e, BadValuesAddressesAndTargetsAreUsageErrors) {
   expect_usage_error(run({"--target", "nowhere", "reg", "read", "top.id"}), "unknown target");
   expect_usage_error(run({"--target", "sim:no_such_scenario", "reg", "read", "top.id"}),
                      kDrivingScenario);
-  expect_usage_error(run({"--target", "lcm", "reg", "read", "top.id"}),
-                     "target lcm is not available yet");
+  expect_usage_error(run({"--target", "lcm", "--crc", "reg", "read", "top.id"}),
+                     "target lcm reaches the simulator's registers through its register bridge");
   expect_usage_error(run({"reg", "watch", "top.id", "--interval", "100", "--count", "2"}),
                      "interval");
   expect_usage_error(run({"reg", "frobnicate"}), "frobnicate");

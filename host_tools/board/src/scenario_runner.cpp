@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 
@@ -113,7 +114,11 @@ RunResult run_scenario(const world::Scenario& scenario, const RunOptions& option
       }
     }
   };
-  while (!truth.done()) {
+  const std::uint64_t end_clock =
+      options.max_seconds > 0
+          ? static_cast<std::uint64_t>(std::ceil(options.max_seconds * sw::kFabricClockHz))
+          : std::numeric_limits<std::uint64_t>::max();
+  while (!truth.done() && result.clocks < end_clock) {
     drive_encoder_pins(in.pins, truth.tick());
     run(1);
     // The ticks that repeat these levels, at once.

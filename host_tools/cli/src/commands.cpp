@@ -10,9 +10,11 @@
 #include <ostream>
 #include <ranges>
 #include <sstream>
+#include <utility>
 
 #include "odoloc/cli/errors.hpp"
 #include "odoloc/cli/format.hpp"
+#include "odoloc/cli/locate_input.hpp"
 #include "odoloc/cli/values.hpp"
 #include "odoloc/hls_export/reference.hpp"
 
@@ -28,8 +30,9 @@ constexpr std::string_view kFooter =
     "target, 130 Ctrl-C.\n"
     "Every run of `--target sim` starts a fresh simulated chip; `odoloc script` runs many\n"
     "commands on one. Reading an rc register (reg read, dump, watch) clears it.\n"
-    "`odoloc locate` reads files only, `odoloc export-hls` writes files only and `odoloc sweep`\n"
-    "runs its own simulations: none opens a target.\n"
+    "`odoloc locate` and `odoloc plot` read files only, `odoloc export-hls` writes files only\n"
+    "and `odoloc sweep` runs its own simulations: none opens a target. `odoloc watch pose`\n"
+    "listens to a simulator on LCM (--lcm-url) and opens none either.\n"
     "Manual: docs/host-tool.md.";
 
 template <class... F>
@@ -101,10 +104,11 @@ std::map<std::uint16_t, std::uint32_t> read_locations(sw::RegisterBus& bus,
 // With `for_help`, only words that are there are checked (`odoloc --help`
 // and `odoloc reg --help` are fine, `odoloc frobnicate --help` is not).
 void check_command_words(std::span<const std::string> args, bool for_help = false) {
-  static const std::vector<std::string> kCommands{"reg",    "script",     "wait",
-                                                  "locate", "export-hls", "sweep"};
+  static const std::vector<std::string> kCommands{"reg",    "script",     "wait",  "watch", "sim",
+                                                  "locate", "export-hls", "sweep", "plot"};
   static const std::vector<std::string> kRegCommands{"list", "read", "write", "dump", "watch"};
   static const std::vector<std::string> kSweepCommands{"run", "merge"};
+  static const std::vector<std::string> kWatchCommands{"pose"};
   std::vector<std::string> words;
   for (std::size_t i = 0; i < args.size() && words.size() < 2; ++i) {
     const std::string& a = args[i];
@@ -115,7 +119,7 @@ void check_command_words(std::span<const std::string> args, bool for_help = fals
     if (a.starts_with("-"))
       continue;
     words.push_back(a);
-    if (a != "reg" && a != "sweep")
+    if (a != "reg" && a != "sweep" && a != "watch")
       break;
   }
   const auto check = [](const std::string& word, const std::vector<std::string>& known,
@@ -138,15 +142,32 @@ void check_command_words(std::span<const std::string> args, bool for_help = fals
     return;
   if (words.empty())
     throw UsageError(
-        "no command given; expected reg, script, wait, locate, export-hls or sweep (odoloc --help "
-        "for usage)");
+        "no command given; expected reg, script, wait, watch, sim, locate, export-hls, sweep or "
+        "plot (odoloc --help for usage)");
   check(words[0], kCommands, "command");
   if (words[0] == "reg" && words.size() == 1 && !for_help)
     throw UsageError("reg needs a command: list, read, write, dump or watch");
   if (words[0] == "sweep" && words.size() == 1 && !for_help)
     throw UsageError("sweep needs a command: run or merge");
+  if (words[0] == "watch" && words.size() == 1 && !for_help)
+    throw UsageError("watch needs a command: pose (registers: reg watch)");
+  // `odoloc watch top.id`: a register watch without "reg".
+  const auto names_a_register = [](const std::string& word) {
+    try {
+      (void)resolve(word);
+      return true;
+    } catch (const UsageError&) {
+      return false;
+    }
+  };
+  if (words[0] == "watch" && words.size() == 2 && words[1] != "pose" && names_a_register(words[1]))
+    throw UsageError(
+        fmt::format("unknown watch command '{}'; did you mean reg watch {}?", words[1], words[1]));
   if (words.size() == 2)
-    check(words[1], words[0] == "reg" ? kRegCommands : kSweepCommands,
+    check(words[1],
+          words[0] == "reg"     ? kRegCommands
+          : words[0] == "sweep" ? kSweepCommands
+                                : kWatchCommands,
           fmt::format("{} command", words[0]));
 }
 
@@ -392,6 +413,12 @@ Invocation parse_invocation(std::span<const std::string> args) {
   LocateCommand locate_command;
   SweepRunCommand sweep_run_command;
   SweepMergeCommand sweep_merge_command;
+  PlotCommand plot_command;
+  SimCommand sim_command;
+  std::string sim_laps, sim_speed, sim_seed, sim_duration;
+  std::string plot_ellipse_every;
+  WatchPoseCommand watch_pose_command;
+  std::string watch_pose_count;
 
   CLI::App app{
       "Register access to the odoloc FPGA fabric over SPI (simulated or real), beacon fixes "
@@ -535,6 +562,67 @@ Invocation parse_invocation(std::span<const std::string> args) {
   for (CLI::App* sub : {sweep_run, sweep_merge})
     sub->fallthrough();
 
+  CLI::App* plot = app.add_subcommand(
+      "plot",
+      "trajectories and errors of an LCM event log (truth, pose sources, fixes) as a PNG drawn "
+      "with gnuplot, and a summary per source (no target)");
+  plot->add_option("LOG", plot_command.log, "the LCM event log (odoloc sim, lcm-logger)")
+      ->required();
+  plot->add_option("--out", plot_command.out, "the PNG to write (default: LOG with extension .png)")
+      ->type_name("FILE.png");
+  plot->add_option("--ellipse-every", plot_ellipse_every,
+                   "seconds between the fused estimate's drawn 95 % error ellipses (default 1)")
+      ->type_name("SECONDS");
+  plot->add_flag("--keep-script", plot_command.keep_script,
+                 "keep the gnuplot script (its data inline) next to the PNG, as FILE.gp");
+  plot->fallthrough();
+
+  CLI::App* sim = app.add_subcommand(
+      "sim",
+      "the whole localisation system (world, chip at the pin level, SoC software over the "
+      "register bus) on its room tour: LCM, CSV, plot and the table of errors (no target; "
+      "docs/simulator.md)");
+  sim->add_option("--laps", sim_laps, "laps of the 6 m square (default 2)")->type_name("N");
+  sim->add_option("--speed", sim_speed, "m/s (default 0.5)")->type_name("M/S");
+  sim->add_option("--seed", sim_seed, "the acoustic world's random draws (default 1)")
+      ->type_name("N");
+  sim->add_option("--duration", sim_duration,
+                  "stop after this much simulated time (default: the whole tour)")
+      ->type_name("SECONDS");
+  sim->add_option("--out", sim_command.out,
+                  "write DIR/odoloc.lcmlog, trajectories.csv, fixes.csv and localisation.png")
+      ->type_name("DIR");
+  sim->add_option(
+         "--lcm-url", sim_command.lcm_url,
+         fmt::format("publish live here (default {} when there is no --out)", lcm::kDefaultUrl))
+      ->type_name("URL");
+  sim->add_flag("--realtime", sim_command.realtime,
+                "pace to the wall clock (default: as fast as the machine can)");
+  sim->add_flag("--allow-write", sim_command.allow_write,
+                "let the register bridge write registers (LCM has no authentication)");
+  sim->add_flag("--no-plot", sim_command.no_plot, "with --out: no localisation.png");
+  sim->fallthrough();
+
+  CLI::App* watch_top = app.add_subcommand(
+      "watch", "print what a simulator publishes on LCM as it comes (no target)");
+  watch_top->require_subcommand(1);
+  watch_top->fallthrough();
+  CLI::App* watch_pose = watch_top->add_subcommand(
+      "pose",
+      "pose estimates from ODOLOC_POSE (truth: ODOLOC_TRUTH), one line each: time, source, x, "
+      "y, heading, standard deviations");
+  watch_pose
+      ->add_option("--source", watch_pose_command.source,
+                   "fused (default), odometry, rear, front, truth or all")
+      ->type_name("SOURCE");
+  watch_pose->add_option("--count", watch_pose_count, "estimates to print (default: until Ctrl-C)")
+      ->type_name("N");
+  watch_pose
+      ->add_option("--lcm-url", watch_pose_command.url,
+                   fmt::format("where to listen (default {})", lcm::kDefaultUrl))
+      ->type_name("URL");
+  watch_pose->fallthrough();
+
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   try {
     app.parse(reversed);
@@ -611,9 +699,39 @@ Invocation parse_invocation(std::span<const std::string> args) {
     refuse_board_options("sweep run", "simulates in process");
     sweep_run_command.shard = parse_shard_option(raw.sweep_shard);
     inv.command = std::move(sweep_run_command);
+  } else if (sim->parsed()) {
+    // --cycle-step applies: the simulator's chip is a simulated board.
+    sim_command.cycle_step = std::exchange(inv.cycle_step, false);
+    refuse_board_options("sim", "simulates its own board");
+    if (!sim_laps.empty())
+      sim_command.laps = parse_count(sim_laps);
+    if (!sim_seed.empty())
+      sim_command.seed = parse_count(sim_seed);
+    const auto real = [](const std::string& text, std::string_view option, double& to) {
+      if (text.empty())
+        return;
+      const std::optional<double> value = parse_real(text);
+      if (!value)
+        throw UsageError(fmt::format("{}: '{}' is not a number", option, text));
+      to = *value;
+    };
+    real(sim_speed, "--speed", sim_command.speed_mps);
+    real(sim_duration, "--duration", sim_command.duration_s);
+    inv.command = std::move(sim_command);
+  } else if (plot->parsed()) {
+    refuse_board_options("plot", "reads a log file");
+    if (!plot_ellipse_every.empty())
+      plot_command.ellipse_every_s = parse_ellipse_every(plot_ellipse_every);
+    inv.command = std::move(plot_command);
   } else if (sweep_merge->parsed()) {
     refuse_board_options("sweep merge", "reads and writes files");
     inv.command = std::move(sweep_merge_command);
+  } else if (watch_pose->parsed()) {
+    refuse_board_options("watch pose", "listens on LCM (--lcm-url)");
+    watch_pose_command.source = parse_pose_source(watch_pose_command.source);
+    if (!watch_pose_count.empty())
+      watch_pose_command.count = parse_count(watch_pose_count);
+    inv.command = std::move(watch_pose_command);
   } else {
     throw UsageError("no command given (odoloc --help for usage)");
   }
@@ -657,7 +775,10 @@ bool needs_target(const Command& command) {
          !std::holds_alternative<LocateCommand>(command) &&
          !std::holds_alternative<ExportHlsCommand>(command) &&
          !std::holds_alternative<SweepRunCommand>(command) &&
-         !std::holds_alternative<SweepMergeCommand>(command);
+         !std::holds_alternative<SweepMergeCommand>(command) &&
+         !std::holds_alternative<PlotCommand>(command) &&
+         !std::holds_alternative<WatchPoseCommand>(command) &&
+         !std::holds_alternative<SimCommand>(command);
 }
 
 void execute(const Command& command, Target* target, std::ostream& out, bool json,
@@ -675,6 +796,9 @@ void execute(const Command& command, Target* target, std::ostream& out, bool jso
           [&](const ExportHlsCommand& c) { run_export_hls(c, out, json); },
           [&](const SweepRunCommand& c) { run_sweep_run(c, out, json, stop); },
           [&](const SweepMergeCommand& c) { run_sweep_merge(c, out, json); },
+          [&](const PlotCommand& c) { run_plot(c, out, json); },
+          [&](const WatchPoseCommand& c) { run_watch_pose(c, out, json, stop); },
+          [&](const SimCommand& c) { run_sim(c, out, json, stop); },
       },
       command);
 }

@@ -19,14 +19,8 @@ hls_export::HlsTool parse_hls_tool(const std::string& name) {
 }
 
 void run_export_hls(const ExportHlsCommand& command, std::ostream& out, bool json) {
-  std::vector<hls_export::ExportedTree> trees;
-  try {
-    trees = hls_export::export_hls(command.request);
-  } catch (const hls_export::ExportError& e) {
-    if (e.usage())
-      throw UsageError(e.what());
-    throw FileError(e.what());
-  }
+  const std::vector<hls_export::ExportedTree> trees =
+      translated<hls_export::ExportError>([&] { return hls_export::export_hls(command.request); });
   for (const hls_export::ExportedTree& tree : trees) {
     if (json) {
       out << nlohmann::json{{"kernel", tree.kernel},

@@ -11,31 +11,16 @@
 #include "odoloc/sweep/shard_file.hpp"
 
 namespace odoloc::cli {
-namespace {
-
-// The library's one error kind as the tool's: exit 2 for the input, 1 for
-// a failed write.
-template <class F>
-auto translated(F&& body) {
-  try {
-    return body();
-  } catch (const sweep::SweepError& e) {
-    if (e.usage())
-      throw UsageError(e.what());
-    throw FileError(e.what());
-  }
-}
-
-}  // namespace
 
 sweep::Shard parse_shard_option(const std::string& text) {
-  return translated([&] { return sweep::parse_shard(text); });
+  return translated<sweep::SweepError>([&] { return sweep::parse_shard(text); });
 }
 
 void run_sweep_run(const SweepRunCommand& command, std::ostream& out, bool json,
                    const std::atomic<bool>* stop) {
-  const sweep::Spec spec = translated([&] { return sweep::load_spec(command.spec); });
-  const std::uint64_t jobs = translated([&] {
+  const sweep::Spec spec =
+      translated<sweep::SweepError>([&] { return sweep::load_spec(command.spec); });
+  const std::uint64_t jobs = translated<sweep::SweepError>([&] {
     return sweep::run_shard(spec, command.shard, command.out, [stop] {
       if (stop != nullptr && stop->load())
         throw Interrupted();
@@ -56,14 +41,14 @@ void run_sweep_run(const SweepRunCommand& command, std::ostream& out, bool json,
 }
 
 void run_sweep_merge(const SweepMergeCommand& command, std::ostream& out, bool json) {
-  const sweep::MergedSweep merged = translated([&] {
+  const sweep::MergedSweep merged = translated<sweep::SweepError>([&] {
     std::vector<sweep::ShardFile> files;
     for (const std::string& f : command.files)
       files.push_back(sweep::load_shard_file(f));
     return sweep::merge(std::move(files));
   });
-  const std::vector<std::filesystem::path> written =
-      translated([&] { return sweep::write_merged(merged, command.out, command.plot); });
+  const std::vector<std::filesystem::path> written = translated<sweep::SweepError>(
+      [&] { return sweep::write_merged(merged, command.out, command.plot); });
   std::vector<std::string> names;
   for (const std::filesystem::path& p : written)
     names.push_back(p.filename().string());

@@ -5,25 +5,30 @@
 #include <algorithm>
 #include <thread>
 
+#include "odoloc/bridge/lcm_register_bus.hpp"
 #include "odoloc/cli/errors.hpp"
 #include "odoloc/cli/spidev_link.hpp"
 #include "odoloc/cli/values.hpp"
+#include "odoloc/lcm/connection.hpp"
 #include "odoloc/sw/spi_frame.hpp"
 
 namespace odoloc::cli {
 namespace {
 
-class SpidevTarget final : public Target {
+void check_stop(const std::atomic<bool>* stop) {
+  if (stop != nullptr && stop->load())
+    throw Interrupted();
+}
+
+// A target on real time: wait() sleeps, elapsed() is wall-clock.
+class WallClockTarget : public Target {
  public:
-  SpidevTarget(const SpidevSpec& spec, const TargetOptions& options)
-      : link_(spec.device, spec.speed_hz), bus_(link_, {.crc = options.crc}), stop_(options.stop) {}
-  sw::RegisterBus& bus() override { return bus_; }
+  explicit WallClockTarget(const std::atomic<bool>* stop) : stop_(stop) {}
   // Sleeps in slices of 10 ms so that Ctrl-C ends the wait promptly.
   void wait(std::chrono::nanoseconds interval) override {
     const auto until = std::chrono::steady_clock::now() + interval;
     for (;;) {
-      if (stop_ != nullptr && stop_->load())
-        throw Interrupted();
+      check_stop(stop_);
       const auto now = std::chrono::steady_clock::now();
       if (now >= until)
         return;
@@ -37,16 +42,37 @@ class SpidevTarget final : public Target {
  private:
   static constexpr std::chrono::nanoseconds kSlice = std::chrono::milliseconds{10};
 
-  SpidevLink link_;
-  sw::SpiRegisterBus bus_;
   const std::atomic<bool>* stop_;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
-std::unique_ptr<Target> open_lcm_target(std::string_view /*argument*/,
-                                        const TargetOptions& /*options*/) {
-  throw UsageError("target lcm is not available yet");
-}
+class SpidevTarget final : public WallClockTarget {
+ public:
+  SpidevTarget(const SpidevSpec& spec, const TargetOptions& options)
+      : WallClockTarget(options.stop),
+        link_(spec.device, spec.speed_hz),
+        bus_(link_, {.crc = options.crc}) {}
+  sw::RegisterBus& bus() override { return bus_; }
+
+ private:
+  SpidevLink link_;
+  sw::SpiRegisterBus bus_;
+};
+
+// A simulator's registers through its register bridge (docs/lcm.md).
+class LcmTarget final : public WallClockTarget {
+ public:
+  LcmTarget(const std::string& url, const TargetOptions& options)
+      : WallClockTarget(options.stop),
+        connection_(open_lcm(url)),
+        bus_(connection_, {.timeout = bridge::kDefaultTimeout,
+                           .poll = [stop = options.stop] { check_stop(stop); }}) {}
+  sw::RegisterBus& bus() override { return bus_; }
+
+ private:
+  lcm::Connection connection_;
+  bridge::LcmRegisterBus bus_;
+};
 
 // One row per kind of target; a new transport is one opener and one row.
 using Opener = std::unique_ptr<Target> (*)(std::string_view argument, const TargetOptions&);
@@ -54,12 +80,11 @@ struct TargetKind {
   std::string_view name;
   std::string_view syntax;
   Opener open;
-  bool any_suffix;  // "lcm..." as well as "lcm" and "lcm:..."
 };
 constexpr TargetKind kTargetKinds[] = {
-    {"sim", "sim[:SCENARIO]", open_sim_target, false},
-    {"spidev", "spidev:/dev/spidevB.C[@HZ]", open_spidev_target, false},
-    {"lcm", "lcm[:URL]", open_lcm_target, true},
+    {"sim", "sim[:SCENARIO]", open_sim_target},
+    {"spidev", "spidev:/dev/spidevB.C[@HZ]", open_spidev_target},
+    {"lcm", "lcm[:URL]", open_lcm_target},
 };
 
 struct Match {
@@ -73,8 +98,6 @@ Match match(std::string_view spec) {
       return {&k, {}};
     if (spec.starts_with(k.name) && spec.size() > k.name.size() && spec[k.name.size()] == ':')
       return {&k, spec.substr(k.name.size() + 1)};
-    if (k.any_suffix && spec.starts_with(k.name))
-      return {&k, spec.substr(k.name.size())};
   }
   std::string expected;
   for (std::size_t i = 0; i < std::size(kTargetKinds); ++i) {
@@ -109,6 +132,24 @@ std::unique_ptr<Target> open_spidev_target(std::string_view argument,
     throw UsageError(
         "--vcd, --vcd-pins and --cycle-step act on the simulated chip: they need --target sim");
   return std::make_unique<SpidevTarget>(parse_spidev_spec(argument), options);
+}
+
+std::unique_ptr<Target> open_lcm_target(std::string_view argument, const TargetOptions& options) {
+  if (options.crc || !options.vcd.empty() || !options.vcd_pins.empty() || options.cycle_step)
+    throw UsageError(
+        "--crc, --vcd, --vcd-pins and --cycle-step act on an SPI link or the simulated chip in "
+        "this process; target lcm reaches the simulator's registers through its register "
+        "bridge, which frames them itself");
+  return std::make_unique<LcmTarget>(
+      argument.empty() ? std::string{lcm::kDefaultUrl} : std::string{argument}, options);
+}
+
+lcm::Connection open_lcm(const std::string& url) {
+  try {
+    return lcm::Connection(url);
+  } catch (const lcm::LcmError& e) {
+    throw UsageError(e.what());
+  }
 }
 
 bool is_sim_spec(std::string_view spec) {

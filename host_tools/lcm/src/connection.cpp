@@ -3,6 +3,7 @@
 #include <glib.h>
 
 #include <algorithm>
+#include <cerrno>
 
 namespace odoloc::lcm {
 
@@ -45,9 +46,14 @@ void Connection::add_subscription(std::unique_ptr<SubscriptionBase> subscription
 bool Connection::handle(std::chrono::milliseconds timeout) {
   const auto millis = static_cast<int>(std::min<std::chrono::milliseconds::rep>(
       std::max<std::chrono::milliseconds::rep>(timeout.count(), 0), INT_MAX));
+  errno = 0;
   const int handled = lcm_.handleTimeout(millis);
   if (handler_error_)
     std::rethrow_exception(std::exchange(handler_error_, nullptr));
+  // A signal (Ctrl-C) that interrupts the wait is no failure: nothing was
+  // handled, and the caller looks at its stop flag.
+  if (handled < 0 && errno == EINTR)
+    return false;
   if (handled < 0)
     throw LcmError("LCM: error while waiting for messages on '" + url_ + "'");
   return handled > 0;

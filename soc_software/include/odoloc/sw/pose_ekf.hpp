@@ -20,7 +20,8 @@
 //   - BodyPointFix: z = p + R(theta) o, a known point o of the body
 //     (Thamma's head and tail boxes);
 //   - RangeSet: tightly coupled beacon ranges with a common unknown offset
-//     (Kleeman's cycle): z_i = sqrt(|p - b_i|^2 + h_i^2) + c, one scalar
+//     (Kleeman's cycle): z_i = sqrt(|p + R(theta) m_i - b_i|^2 + h_i^2) + c,
+//     m_i the robot's motion from the set's time to the range's, one scalar
 //     update per beacon with the offset c as a temporary fourth state (the
 //     Crazyflie's TDoA filter fuses one scalar per anchor pair: the same
 //     information once c is eliminated). The first range pins c (the
@@ -114,6 +115,10 @@ struct BeaconRange {
   double height_m = 0;    // the beacon above the receivers' plane
   double distance_m = 0;  // measured, with the cycle's common offset
   double sd_m = 0.01;
+  // Where the robot origin was when this range was captured, in the robot
+  // frame at the set's time (from odometry: a moving robot hears a cycle's
+  // beacons one after the other); zero: at the set's time.
+  Vector2 motion_m = Vector2::Zero();
 };
 struct RangeSet {
   std::vector<BeaconRange> ranges;

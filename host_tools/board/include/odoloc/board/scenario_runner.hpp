@@ -49,6 +49,7 @@ struct RunOptions {
   MinSelectTuning tuning = MinSelectTuning::kVehicle;
   std::uint64_t record_every_clocks = 0;  // 0: no track
   bool cycle_step = false;  // step every clock instead of fast-forwarding (bit-identical, slower)
+  double max_seconds = 0;   // > 0: stop the drive after this much simulated time
 };
 
 RunResult run_scenario(const world::Scenario& scenario, const RunOptions& options);

@@ -16,8 +16,11 @@
 #include "odoloc/cli/export_hls.hpp"
 #include "odoloc/cli/locate.hpp"
 #include "odoloc/cli/names.hpp"
+#include "odoloc/cli/plot.hpp"
+#include "odoloc/cli/sim_command.hpp"
 #include "odoloc/cli/sweep.hpp"
 #include "odoloc/cli/target.hpp"
+#include "odoloc/cli/watch_pose.hpp"
 
 namespace odoloc::cli {
 
@@ -55,9 +58,10 @@ struct WaitCommand {
 struct ScriptCommand {
   std::string file;  // "-": standard input
 };
-using Command = std::variant<ListCommand, ReadCommand, WriteCommand, DumpCommand, WatchCommand,
-                             WaitCommand, ScriptCommand, LocateCommand, ExportHlsCommand,
-                             SweepRunCommand, SweepMergeCommand>;
+using Command =
+    std::variant<ListCommand, ReadCommand, WriteCommand, DumpCommand, WatchCommand, WaitCommand,
+                 ScriptCommand, LocateCommand, ExportHlsCommand, SweepRunCommand, SweepMergeCommand,
+                 PlotCommand, WatchPoseCommand, SimCommand>;
 
 // One command line (the words after "odoloc").
 struct Invocation {

@@ -24,6 +24,22 @@ class FileError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Runs `body` (a call into one of the tool's libraries) and returns what it
+// returns, turning the library's one error kind (sweep::SweepError,
+// hls_export::ExportError, plot::PlotError: a what() and usage(), true when
+// the input is at fault) into the tool's: UsageError (exit 2) or FileError
+// (exit 1).
+template <class LibraryError, class F>
+auto translated(F&& body) {
+  try {
+    return body();
+  } catch (const LibraryError& e) {
+    if (e.usage())
+      throw UsageError(e.what());
+    throw FileError(e.what());
+  }
+}
+
 // Ctrl-C: thrown by long-running loops (simulated time, watch, wait) when the
 // stop flag is set; the tool exits kExitInterrupted without a message.
 class Interrupted : public std::runtime_error {

@@ -3,7 +3,7 @@
 // --target spec through one table of target kinds:
 //   sim[:SCENARIO]              the simulated board (odoloc::board::SimTarget)
 //   spidev:/dev/spidevB.C[@HZ]  a Linux spidev device (default 1 MHz)
-//   lcm[:...]                   remote simulator (not available yet)
+//   lcm[:URL]                   a simulator's registers over LCM (its register bridge)
 #pragma once
 
 #include <atomic>
@@ -16,6 +16,10 @@
 #include "odoloc/regs.hpp"
 #include "odoloc/sw/register_bus.hpp"
 
+namespace odoloc::lcm {
+class Connection;
+}  // namespace odoloc::lcm
+
 namespace odoloc::cli {
 
 struct TargetOptions {
@@ -23,7 +27,8 @@ struct TargetOptions {
   std::string vcd;          // sim only: write the chip's waveform of every frame here
   std::string vcd_pins;     // sim only: the four SPI pins of every frame, for sigrok and the like
   bool cycle_step = false;  // sim only: step every clock instead of fast-forwarding
-  // Set by Ctrl-C: wait() returns early by throwing Interrupted.
+  // Set by Ctrl-C: wait() and, on lcm, a bus request waiting for its answer
+  // return early by throwing Interrupted.
   const std::atomic<bool>* stop = nullptr;
 };
 
@@ -92,5 +97,15 @@ void check_target_spec(std::string_view spec);
                                                       const TargetOptions& options);
 [[nodiscard]] std::unique_ptr<Target> open_spidev_target(std::string_view argument,
                                                          const TargetOptions& options);
+// `argument`: an LCM URL; "" is lcm::kDefaultUrl. The bus is a
+// bridge::LcmRegisterBus (requests time out after bridge::kDefaultTimeout);
+// wait() sleeps wall-clock time. UsageError for --crc, --vcd, --vcd-pins and
+// --cycle-step, and when LCM cannot open the URL.
+[[nodiscard]] std::unique_ptr<Target> open_lcm_target(std::string_view argument,
+                                                      const TargetOptions& options);
+
+// An LCM connection for the tool (--target lcm, watch pose); UsageError with
+// LCM's reason, naming the URL, when it cannot be opened.
+[[nodiscard]] lcm::Connection open_lcm(const std::string& url);
 
 }  // namespace odoloc::cli

@@ -163,7 +163,8 @@ class Connection {
   }
 
   // Waits at most `timeout` for one message and dispatches it; true when one
-  // was handled, false on time-out (0 ms: only what is already there).
+  // was handled, false on time-out (0 ms: only what is already there) or
+  // when a signal interrupted the wait (Ctrl-C: the caller checks its flag).
   // Rethrows the first exception a handler threw since the last call; throws
   // LcmError when LCM fails (a file://...?mode=r replay: past its last event).
   bool handle(std::chrono::milliseconds timeout);

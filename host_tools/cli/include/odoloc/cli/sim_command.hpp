@@ -1,0 +1,42 @@
+// `odoloc sim` (docs/simulator.md): the whole localisation system in one
+// process, the project's main job. The world (the room tour), the chip at
+// the pin level and the SoC software over the register bus; every stage
+// published on LCM and/or written to a directory (LCM log, CSV, plot); the
+// table of each source's errors at the end. No target: it simulates its own
+// board.
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <iosfwd>
+#include <string>
+
+namespace odoloc::cli {
+
+struct SimCommand {
+  std::size_t laps = 2;
+  double speed_mps = 0.5;
+  std::uint64_t seed = 1;
+  double duration_s = 0;  // > 0: stop after this much simulated time (the table then covers it)
+  // Non-empty: write DIR/odoloc.lcmlog (an LCM event log), DIR/trajectories.csv,
+  // DIR/fixes.csv and DIR/localisation.png (unless no_plot).
+  std::string out;
+  // Publish live here (the register bridge listens there too). Empty: the
+  // default URL when there is no --out, else nothing live.
+  std::string lcm_url;
+  bool realtime = false;     // paced to the wall clock
+  bool allow_write = false;  // the register bridge carries out writes
+  bool no_plot = false;
+  bool cycle_step = false;  // the chip stepped every clock (bit-identical, slower)
+};
+
+// Runs the tour; prints what it runs, then the table (with `json`, one JSON
+// object: the table and the run's figures). UsageError for bad options or an
+// LCM URL that cannot be opened; FileError when an output cannot be written
+// or the plot fails; Interrupted when `stop` is set (the files written so
+// far are closed).
+void run_sim(const SimCommand& command, std::ostream& out, bool json,
+             const std::atomic<bool>* stop);
+
+}  // namespace odoloc::cli

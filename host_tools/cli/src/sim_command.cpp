@@ -1,0 +1,176 @@
+#include "odoloc/cli/sim_command.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <ostream>
+#include <system_error>
+
+#include "odoloc/cli/errors.hpp"
+#include "odoloc/lcm/channels.hpp"
+#include "odoloc/plot/log_plot.hpp"
+#include "odoloc/plot/log_series.hpp"
+#include "odoloc/sim/runner.hpp"
+
+namespace odoloc::cli {
+
+namespace {
+
+std::unique_ptr<lcm::Connection> open_lcm(const std::string& url) {
+  try {
+    return std::make_unique<lcm::Connection>(url);
+  } catch (const lcm::LcmError& e) {
+    throw UsageError(e.what());
+  }
+}
+
+nlohmann::json table_json(const sim::ErrorReport& report) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const sim::Source s : sim::kAllSources) {
+    const sim::SourceErrors e = report.errors(s);
+    rows.push_back({{"source", sim::name(s)},
+                    {"samples", e.samples},
+                    {"final_position_m", e.final_position_m},
+                    {"final_heading_rad",
+                     e.has_heading ? nlohmann::json(e.final_heading_rad) : nlohmann::json(nullptr)},
+                    {"rms_position_m", e.rms_position_m},
+                    {"rms_heading_rad",
+                     e.has_heading ? nlohmann::json(e.rms_heading_rad) : nlohmann::json(nullptr)},
+                    {"return_to_start_m", e.return_to_start_m}});
+  }
+  return rows;
+}
+
+}  // namespace
+
+void run_sim(const SimCommand& command, std::ostream& out, bool json,
+             const std::atomic<bool>* stop) {
+  const auto started = std::chrono::steady_clock::now();
+  if (command.laps < 1 || command.laps > 100)
+    throw UsageError("--laps must be 1 to 100");
+  if (!(command.speed_mps > 0 && command.speed_mps <= 1.5))
+    throw UsageError("--speed must be in (0, 1.5] m/s");
+  if (!(command.duration_s >= 0 && command.duration_s <= 1e4))
+    throw UsageError("--duration must be 0 to 10000 s");
+  const std::filesystem::path dir = command.out;
+  std::filesystem::path log, trajectories_csv, fixes_csv, png;
+  if (!command.out.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec)
+      throw FileError(fmt::format("cannot create {}: {}", dir.string(), ec.message()));
+    log = std::filesystem::absolute(dir / "odoloc.lcmlog");
+    trajectories_csv = dir / "trajectories.csv";
+    fixes_csv = dir / "fixes.csv";
+    png = dir / "localisation.png";
+  }
+  const std::string live_url =
+      !command.lcm_url.empty() ? command.lcm_url : (command.out.empty() ? lcm::kDefaultUrl : "");
+  // Opened before the minute of simulation: a bad URL fails at once.
+  std::unique_ptr<lcm::Connection> live = live_url.empty() ? nullptr : open_lcm(live_url);
+
+  sim::LocalisationSystem system(world::room_tour(command.laps, command.speed_mps),
+                                 {.seed = command.seed,
+                                  .step_s = 0.01,
+                                  .cycle_step = command.cycle_step,
+                                  .encoder_period_s = 0.1,
+                                  .until_s = command.duration_s});
+  const world::RoomTour& tour = system.tour();
+  if (!json)
+    out << fmt::format("odoloc sim: {}, {:.1f} s to simulate, seed {}{}\n", tour.name,
+                       tour.duration_s, command.seed,
+                       live ? fmt::format("; publishing on {}", live_url) : std::string())
+        << std::flush;
+  sim::Runner runner(system, {.realtime = command.realtime, .allow_write = command.allow_write});
+  sim::ErrorSink errors(tour.drive.start);
+  runner.add_sink(errors);
+  std::optional<sim::CsvSink> csv;
+  if (!command.out.empty()) {
+    try {
+      csv.emplace(trajectories_csv.string(), fixes_csv.string());
+    } catch (const std::runtime_error& e) {
+      throw FileError(e.what());
+    }
+    runner.add_sink(*csv);
+  }
+  std::optional<sim::LcmSink> live_sink, log_sink;
+  if (live) {
+    live_sink.emplace(*live);
+    runner.add_sink(*live_sink);
+    runner.add_live(*live);
+  }
+  if (!log.empty()) {
+    try {
+      log_sink.emplace(log.string());
+    } catch (const std::runtime_error& e) {
+      throw FileError(e.what());
+    }
+    runner.add_sink(*log_sink);
+  }
+  sim::RunSummary summary;
+  try {
+    summary = runner.run(stop, std::cerr);
+  } catch (const std::runtime_error& e) {  // a sink's file
+    throw FileError(e.what());
+  }
+  if (stop != nullptr && stop->load())
+    throw Interrupted();
+  if (!png.empty() && !command.no_plot) {
+    try {
+      plot::draw(plot::read_log(log), {.png = png, .ellipse_every_s = 1.0, .keep_script = false});
+    } catch (const plot::PlotError& e) {
+      throw FileError(e.what());
+    }
+  }
+
+  const sim::ErrorReport& report = errors.report();
+  // Everything: the world's pre-pass, the reference runs, the loop, the plot.
+  const double wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  if (json) {
+    nlohmann::json j = {{"scenario", tour.name},
+                        {"simulated_s", summary.simulated_s},
+                        {"wall_s", wall_s},
+                        {"loop_wall_s", summary.wall_s},
+                        {"fabric_clocks", summary.clocks},
+                        {"skipped_clocks", summary.skipped_clocks},
+                        {"kept_up", summary.kept_up},
+                        {"malformed_messages", summary.malformed},
+                        {"table", table_json(report)}};
+    if (!command.out.empty())
+      j["files"] = {{"log", log.string()},
+                    {"trajectories", trajectories_csv.string()},
+                    {"fixes", fixes_csv.string()},
+                    {"plot", command.no_plot ? "" : png.string()}};
+    out << j.dump() << '\n';
+    return;
+  }
+  out << fmt::format(
+             "{:.1f} s simulated in {:.1f} s of which the loop {:.1f} s ({:.1f}x real time), {} "
+             "fabric clocks\n\n",
+             summary.simulated_s, wall_s, summary.wall_s, summary.simulated_s / summary.wall_s,
+             summary.clocks)
+      << report.table();
+  const sim::SourceErrors fused = report.errors(sim::Source::kFused);
+  if (system.cut_short())
+    out << "\nreturn to start: none, the run stopped before the tour's end (--duration)\n";
+  else
+    out << fmt::format(
+        "\nreturn to start (the robot stops where it started): fused estimate {:.1f} mm from "
+        "the start (Liu et al. report about 100 mm)\n",
+        fused.return_to_start_m * 1e3);
+  if (live)
+    out << fmt::format("register bridge: {} served, {} refused, {} errors; {} malformed messages\n",
+                       summary.bridge.served, summary.bridge.refused, summary.bridge.errors,
+                       summary.malformed);
+  if (!command.out.empty())
+    out << fmt::format("wrote {}, {}, {}{}\n", log.string(), trajectories_csv.string(),
+                       fixes_csv.string(), command.no_plot ? "" : ", " + png.string());
+}
+
+}  // namespace odoloc::cli

@@ -1,0 +1,63 @@
+// The main job's table: each position source's error against the truth
+// over a run of the localisation system (docs/simulator.md, "The table").
+//
+// Sources: rear-only and front-only odometry (reference runs of the fabric
+// on the same drive), min-select odometry (the fabric's pose as the SoC
+// reads it), the ultrasonic fixes alone (each valid fix against the truth
+// at its time) and the fused estimate (from its initialisation on). Per
+// source: the final error (the last sample, the robot standing back at its
+// start), the RMS error over its samples, and the return-to-start error:
+// how far the source's last position is from the start pose, which is
+// where the truth ends (the path closes to well under a millimetre).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <string>
+#include <string_view>
+
+#include "odoloc/world/tricycle.hpp"
+
+namespace odoloc::sim {
+
+enum class Source : std::uint8_t { kRearOdometry, kFrontOdometry, kMinSelect, kUltrasonic, kFused };
+inline constexpr std::size_t kSources = 5;
+inline constexpr std::array<Source, kSources> kAllSources = {
+    Source::kRearOdometry, Source::kFrontOdometry, Source::kMinSelect, Source::kUltrasonic,
+    Source::kFused};
+std::string_view name(Source source);
+
+struct SourceErrors {
+  std::size_t samples = 0;
+  double final_position_m = 0;   // |p - p_true| of the last sample
+  double final_heading_rad = 0;  // wrapped; 0 for a source without heading
+  double rms_position_m = 0;
+  double rms_heading_rad = 0;
+  double return_to_start_m = 0;  // |p_last - p_start|
+  bool has_heading = true;
+};
+
+class ErrorReport {
+ public:
+  explicit ErrorReport(const world::Pose& start) : start_(start) {}
+  // One sample of a source at a time its truth is known. A source without
+  // heading (the ultrasonic fixes) passes has_heading = false.
+  void add(Source source, const world::Pose& truth, const world::Pose& estimate,
+           bool has_heading = true);
+  [[nodiscard]] SourceErrors errors(Source source) const;
+  // The table as text: one row per source with samples, in kAllSources
+  // order; millimetres and degrees.
+  [[nodiscard]] std::string table() const;
+
+ private:
+  struct Sums {
+    std::size_t n = 0;
+    double position2 = 0, heading2 = 0;
+    world::Pose last, last_truth;
+    bool has_heading = true;
+  };
+  world::Pose start_;
+  std::array<Sums, kSources> sums_{};
+};
+
+}  // namespace odoloc::sim

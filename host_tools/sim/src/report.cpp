@@ -1,0 +1,88 @@
+#include "odoloc/sim/report.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <numbers>
+
+namespace odoloc::sim {
+
+namespace {
+
+double wrapped(double rad) {
+  return std::remainder(rad, 2 * std::numbers::pi);
+}
+double distance(const world::Pose& a, const world::Pose& b) {
+  return std::hypot(a.x_m - b.x_m, a.y_m - b.y_m);
+}
+constexpr double kDegPerRad = 180 / std::numbers::pi;
+
+}  // namespace
+
+std::string_view name(Source source) {
+  switch (source) {
+    case Source::kRearOdometry:
+      return "rear-only odometry";
+    case Source::kFrontOdometry:
+      return "front-only odometry";
+    case Source::kMinSelect:
+      return "min-select odometry";
+    case Source::kUltrasonic:
+      return "ultrasonic fixes alone";
+    case Source::kFused:
+      return "fused (EKF)";
+  }
+  return "?";
+}
+
+void ErrorReport::add(Source source, const world::Pose& truth, const world::Pose& estimate,
+                      bool has_heading) {
+  Sums& s = sums_[static_cast<std::size_t>(source)];
+  const double e = distance(estimate, truth);
+  const double h = has_heading ? wrapped(estimate.theta_rad - truth.theta_rad) : 0.0;
+  ++s.n;
+  s.position2 += e * e;
+  s.heading2 += h * h;
+  s.last = estimate;
+  s.last_truth = truth;
+  s.has_heading = has_heading;
+}
+
+SourceErrors ErrorReport::errors(Source source) const {
+  const Sums& s = sums_[static_cast<std::size_t>(source)];
+  SourceErrors e;
+  e.samples = s.n;
+  e.has_heading = s.has_heading;
+  if (s.n == 0)
+    return e;
+  const auto n = static_cast<double>(s.n);
+  e.final_position_m = distance(s.last, s.last_truth);
+  e.final_heading_rad = s.has_heading ? wrapped(s.last.theta_rad - s.last_truth.theta_rad) : 0.0;
+  e.rms_position_m = std::sqrt(s.position2 / n);
+  e.rms_heading_rad = std::sqrt(s.heading2 / n);
+  e.return_to_start_m = distance(s.last, start_);
+  return e;
+}
+
+std::string ErrorReport::table() const {
+  std::string out =
+      fmt::format("{:<24} {:>8} {:>11} {:>11} {:>10} {:>10} {:>13}\n", "source", "samples",
+                  "final (mm)", "final (deg)", "RMS (mm)", "RMS (deg)", "return (mm)");
+  for (const Source source : kAllSources) {
+    const SourceErrors e = errors(source);
+    if (e.samples == 0) {
+      out += fmt::format("{:<24} {:>8}\n", name(source), 0);
+      continue;
+    }
+    const auto degrees = [&](double rad) {
+      return e.has_heading ? fmt::format("{:.2f}", rad * kDegPerRad) : std::string("-");
+    };
+    out +=
+        fmt::format("{:<24} {:>8} {:>11.1f} {:>11} {:>10.1f} {:>10} {:>13.1f}\n", name(source),
+                    e.samples, e.final_position_m * 1e3, degrees(e.final_heading_rad),
+                    e.rms_position_m * 1e3, degrees(e.rms_heading_rad), e.return_to_start_m * 1e3);
+  }
+  return out;
+}
+
+}  // namespace odoloc::sim

@@ -1,0 +1,302 @@
+#include "odoloc/sim/sinks.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <utility>
+
+#include "odoloc/lcm/channels.hpp"
+#include "odoloc_lcm/beacon_fix_t.hpp"
+#include "odoloc_lcm/encoder_state_t.hpp"
+#include "odoloc_lcm/odometry_increment_t.hpp"
+#include "odoloc_lcm/pose_estimate_t.hpp"
+#include "odoloc_lcm/tof_measurement_set_t.hpp"
+
+namespace odoloc::sim {
+
+namespace {
+
+constexpr double kReferencePeriodS = 0.01;  // LocalisationSystem::reference's track
+
+std::int64_t utime(double seconds) {
+  return std::llround(seconds * 1e6);
+}
+
+world::Pose pose_of(double x, double y, double theta) {
+  return {x, y, theta};
+}
+
+world::Pose fix_pose(const sw::locate::Fix& fix) {
+  return pose_of(fix.position_m.x, fix.position_m.y, 0);
+}
+
+double residual_rms_m(const sw::locate::Fix& fix) {
+  double sum = 0;
+  int n = 0;
+  for (const sw::locate::BeaconUse& u : fix.beacons)
+    if (u.status == sw::locate::BeaconStatus::kUsed && std::isfinite(u.residual_m)) {
+      sum += u.residual_m * u.residual_m;
+      ++n;
+    }
+  return n == 0 ? 0.0 : std::sqrt(sum / n);
+}
+
+}  // namespace
+
+std::optional<board::PosePoint> reference_at(const board::RunResult& run, double time_s) {
+  const long index = std::lround(time_s / kReferencePeriodS) - 1;  // the first sample is at 10 ms
+  if (index < 0 || static_cast<std::size_t>(index) >= run.track.size())
+    return std::nullopt;
+  const board::PosePoint& p = run.track[static_cast<std::size_t>(index)];
+  if (std::abs(p.time_s - time_s) > kReferencePeriodS / 2)
+    return std::nullopt;
+  return p;
+}
+
+world::Pose fused_pose(const sw::LocaliserStep& step) {
+  const sw::fuse::Vector3& x = step.estimate.pose.x;
+  return pose_of(x(0), x(1), x(2));
+}
+world::Pose odometry_pose(const sw::LocaliserStep& step) {
+  return pose_of(step.odometry.x_m, step.odometry.y_m, step.odometry.theta_rad);
+}
+
+// ------------------------------------------------------------------ errors
+
+void ErrorSink::frame(const Frame& frame, LocalisationSystem& system) {
+  report_.add(Source::kMinSelect, frame.truth, odometry_pose(frame.soc));
+  for (const auto& [source, policy] :
+       {std::pair{Source::kRearOdometry, rtl::MinSelectPolicy::kRearOnly},
+        std::pair{Source::kFrontOdometry, rtl::MinSelectPolicy::kFrontOnly}})
+    if (const auto p = reference_at(system.reference(policy), frame.time_s))
+      report_.add(source, p->truth, p->fabric);
+  for (const sw::CycleResult& c : frame.soc.cycles)
+    if (c.fix.valid)
+      report_.add(Source::kUltrasonic, system.truth_at(system.to_sim_time(c.time_s)),
+                  fix_pose(c.fix), false);
+  if (frame.soc.estimate.initialised)
+    report_.add(Source::kFused, frame.truth, fused_pose(frame.soc));
+}
+
+// --------------------------------------------------------------------- CSV
+
+CsvSink::CsvSink(const std::string& trajectories_path, const std::string& fixes_path)
+    : trajectories_path_(trajectories_path),
+      fixes_path_(fixes_path),
+      trajectories_(trajectories_path),
+      fixes_(fixes_path) {
+  if (!trajectories_)
+    throw std::runtime_error("cannot write " + trajectories_path);
+  if (!fixes_)
+    throw std::runtime_error("cannot write " + fixes_path);
+  trajectories_ << "time_s,truth_x,truth_y,truth_theta,odometry_x,odometry_y,odometry_theta,"
+                   "rear_x,rear_y,rear_theta,front_x,front_y,front_theta,fused_x,fused_y,"
+                   "fused_theta,fused_sd_x,fused_sd_y,fused_sd_theta,odometry_only\n";
+  fixes_ << "time_s,valid,x,y,var_xx,var_xy,var_yy,beacons_used,solver,truth_x,truth_y,"
+            "fused\n";
+}
+
+void CsvSink::frame(const Frame& frame, LocalisationSystem& system) {
+  const auto pose = [](const std::optional<world::Pose>& p) {
+    return p ? fmt::format("{:.6f},{:.6f},{:.6f}", p->x_m, p->y_m, p->theta_rad)
+             : std::string(",,");
+  };
+  const auto reference = [&](rtl::MinSelectPolicy policy) -> std::optional<world::Pose> {
+    if (const auto p = reference_at(system.reference(policy), frame.time_s))
+      return p->fabric;
+    return std::nullopt;
+  };
+  const sw::fuse::Estimate& e = frame.soc.estimate;
+  std::string fused = ",,,,,";
+  if (e.initialised)
+    fused = fmt::format("{},{:.6f},{:.6f},{:.6f}", pose(fused_pose(frame.soc)),
+                        std::sqrt(e.covariance(0, 0)), std::sqrt(e.covariance(1, 1)),
+                        std::sqrt(e.covariance(2, 2)));
+  trajectories_ << fmt::format(
+      "{:.4f},{},{},{},{},{},{:d}\n", frame.time_s, pose(frame.truth),
+      pose(odometry_pose(frame.soc)), pose(reference(rtl::MinSelectPolicy::kRearOnly)),
+      pose(reference(rtl::MinSelectPolicy::kFrontOnly)), fused, e.odometry_only);
+  for (const sw::CycleResult& c : frame.soc.cycles) {
+    if (!c.measurement.locked())
+      continue;
+    const double t = system.to_sim_time(c.time_s);
+    const world::Pose truth = system.truth_at(t);
+    const Eigen::Matrix2d& p = c.fix.covariance_m2;
+    fixes_ << fmt::format("{:.4f},{:d},{:.6f},{:.6f},{:.4g},{:.4g},{:.4g},{},{},{:.6f},{:.6f},{}\n",
+                          t, c.fix.valid, c.fix.position_m.x, c.fix.position_m.y, p(0, 0), p(0, 1),
+                          p(1, 1), c.fix.used(), sw::locate::name(c.fix.solver), truth.x_m,
+                          truth.y_m, sw::fuse::name(c.fused));
+  }
+}
+
+void CsvSink::finish(LocalisationSystem& /*system*/) {
+  trajectories_.close();
+  fixes_.close();
+  if (trajectories_.fail())
+    throw std::runtime_error("writing " + trajectories_path_ + " failed");
+  if (fixes_.fail())
+    throw std::runtime_error("writing " + fixes_path_ + " failed");
+}
+
+// --------------------------------------------------------------------- LCM
+
+LcmSink::LcmSink(lcm::Connection& connection) : lcm_(&connection) {}
+
+LcmSink::LcmSink(const std::string& path)
+    : log_path_(path), log_(std::make_unique<::lcm::LogFile>(path, "w")) {
+  if (!log_->good())
+    throw std::runtime_error("cannot write the LCM log " + path);
+}
+
+LcmSink::~LcmSink() = default;
+
+template <class Message>
+void LcmSink::publish(const char* channel, const Message& message) {
+  ++published_;
+  if (lcm_ != nullptr) {
+    lcm_->publish(channel, message);
+    return;
+  }
+  std::vector<std::uint8_t> bytes = lcm::encode(message);
+  ::lcm::LogEvent event{};
+  event.timestamp = message.utime;
+  event.channel = channel;
+  event.datalen = static_cast<std::int32_t>(bytes.size());
+  event.data = bytes.data();
+  log_failed_ = log_failed_ || log_->writeEvent(&event) != 0;
+}
+
+void LcmSink::finish(LocalisationSystem& /*system*/) {
+  if (!log_)
+    return;
+  log_.reset();  // closes (flushes) the file
+  if (log_failed_)
+    throw std::runtime_error("writing the LCM log " + log_path_ + " failed");
+}
+
+namespace {
+
+odoloc_lcm::pose_estimate_t pose_message(double time_s, const char* source, const world::Pose& p) {
+  odoloc_lcm::pose_estimate_t m{};
+  m.utime = utime(time_s);
+  m.source = source;
+  m.x = p.x_m;
+  m.y = p.y_m;
+  m.theta = std::remainder(p.theta_rad, 2 * std::numbers::pi);
+  return m;
+}
+
+}  // namespace
+
+void LcmSink::frame(const Frame& frame, LocalisationSystem& system) {
+  namespace channel = lcm::channel;
+  publish(channel::kTruth, pose_message(frame.time_s, "truth", frame.truth));
+
+  if (frame.encoders) {
+    odoloc_lcm::encoder_state_t encoders{};
+    encoders.utime = utime(frame.time_s);
+    for (std::size_t i = 0; i < frame.encoders->size(); ++i) {
+      const EncoderRead& r = (*frame.encoders)[i];
+      encoders.position_count[i] = r.count;
+      encoders.speed_value[i] = r.speed;
+      encoders.speed_mode[i] = r.pulse_mode ? odoloc_lcm::encoder_state_t::SPEED_MODE_PULSE
+                                            : odoloc_lcm::encoder_state_t::SPEED_MODE_PERIOD;
+      encoders.valid[i] = r.valid;
+      encoders.stalled[i] = r.stalled;
+      encoders.forward[i] = r.forward;
+    }
+    publish(channel::kEncoders, encoders);
+  }
+
+  const sw::FabricOdometry& o = frame.soc.odometry;
+  odoloc_lcm::odometry_increment_t odometry{};
+  odometry.utime = utime(frame.time_s);
+  odometry.updates = o.updates;
+  odometry.rear_ds = o.rear_ds_m;
+  odometry.rear_dtheta = o.rear_dtheta_rad;
+  odometry.front_ds = o.front_ds_m;
+  odometry.front_dtheta = o.front_dtheta_rad;
+  odometry.ds = o.ds_m;
+  odometry.dtheta = o.dtheta_rad;
+  odometry.ds_from_front = o.ds_from_front;
+  odometry.dtheta_from_front = o.dtheta_from_front;
+  odometry.steer_phi = o.steer_rad;
+  odometry.x = o.x_m;
+  odometry.y = o.y_m;
+  odometry.theta = o.theta_rad;
+  publish(channel::kOdometry, odometry);
+
+  for (const sw::CycleResult& c : frame.soc.cycles) {
+    if (!c.measurement.locked())
+      continue;
+    odoloc_lcm::beacon_fix_t fix{};
+    fix.utime = utime(system.to_sim_time(c.time_s));
+    fix.solver = std::string(sw::locate::name(c.fix.solver));
+    fix.x = c.fix.position_m.x;
+    fix.y = c.fix.position_m.y;
+    for (int k = 0; k < 4; ++k)
+      fix.covariance[k] = c.fix.covariance_m2(k / 2, k % 2);
+    fix.beacons_used = static_cast<std::int16_t>(c.fix.used());
+    fix.residual_rms = residual_rms_m(c.fix);
+    fix.valid = c.fix.valid;
+    publish(channel::kFix, fix);
+  }
+  publish_events(frame, system);
+
+  publish(channel::kPose, pose_message(frame.time_s, "odometry", odometry_pose(frame.soc)));
+  for (const auto& [source, policy] : {std::pair{"rear", rtl::MinSelectPolicy::kRearOnly},
+                                       std::pair{"front", rtl::MinSelectPolicy::kFrontOnly}})
+    if (const auto p = reference_at(system.reference(policy), frame.time_s))
+      publish(channel::kPose, pose_message(frame.time_s, source, p->fabric));
+  const sw::fuse::Estimate& e = frame.soc.estimate;
+  if (e.initialised) {
+    odoloc_lcm::pose_estimate_t fused = pose_message(frame.time_s, "fused", fused_pose(frame.soc));
+    for (int k = 0; k < 9; ++k)
+      fused.covariance[k] = e.covariance(k / 3, k % 3);
+    fused.odometry_only = e.odometry_only;
+    fused.last_update_utime =
+        e.last_absolute_s < 0 ? 0 : utime(system.to_sim_time(e.last_absolute_s));
+    publish(channel::kPose, fused);
+  }
+}
+
+void LcmSink::publish_events(const Frame& frame, LocalisationSystem& system) {
+  if (!frame.soc.batch)
+    return;
+  const sw::tof::CaptureBatch& batch = *frame.soc.batch;
+  rises_.resize(std::max(rises_.size(), batch.channels.size()));
+  for (std::size_t c = 0; c < batch.channels.size(); ++c)
+    for (const sw::tof::EnvelopeEvent& e : batch.channels[c].envelope)
+      rises_[c].push_back(static_cast<std::int64_t>(e.rise));
+  if (!sync_tick_ && !batch.sync.empty())
+    sync_tick_ = static_cast<std::int64_t>(batch.sync.front());
+  const double tick_s = batch.timebase.tick_s();
+  for (std::size_t k = 0; k < frame.soc.cycles.size(); ++k) {
+    odoloc_lcm::tof_measurement_set_t set{};
+    set.cycle = static_cast<std::int64_t>(cycles_++);
+    set.tick_s = tick_s;
+    std::int64_t first = -1;
+    for (std::size_t c = 0; c < rises_.size(); ++c) {
+      odoloc_lcm::tof_channel_events_t events{};
+      events.channel = static_cast<std::int8_t>(c);
+      events.rise_ticks = std::move(rises_[c]);
+      events.num_events = static_cast<std::int16_t>(events.rise_ticks.size());
+      if (!events.rise_ticks.empty() && (first < 0 || events.rise_ticks.front() < first))
+        first = events.rise_ticks.front();
+      set.channels.push_back(std::move(events));
+      rises_[c].clear();
+    }
+    set.num_channels = static_cast<std::int16_t>(set.channels.size());
+    set.utime =
+        utime(system.to_sim_time(static_cast<double>(std::max<std::int64_t>(first, 0)) * tick_s));
+    set.has_sync = sync_tick_.has_value();
+    set.sync_tick = sync_tick_.value_or(0);
+    sync_tick_.reset();
+    publish(lcm::channel::kTof, set);
+  }
+}
+
+}  // namespace odoloc::sim

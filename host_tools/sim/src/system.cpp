@@ -1,0 +1,210 @@
+#include "odoloc/sim/system.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include "odoloc/board/beacon_ranges.hpp"
+#include "odoloc/board/chip_link.hpp"
+#include "odoloc/board/world_stimulus.hpp"
+#include "odoloc/regs.hpp"
+#include "odoloc/sw/spi_frame.hpp"
+
+namespace odoloc::sim {
+
+namespace {
+
+constexpr double kClockHz = regs::kFabricClockHz;
+
+// The tricycle's trajectory for the acoustic world, every 1 ms; the
+// physics steps 100 us at a time (the chip's truth steps 10 us: both
+// integrate the same arcs, docs/tricycle-simulator.md).
+world::Trajectory prepass(const world::Scenario& drive, double end_s) {
+  world::Options options;
+  options.start = drive.start;
+  options.clocks_per_step = 5000;
+  options.record_every_steps = 10;
+  world::TricycleSimulator truth(drive.geometry, drive.path, drive.disturbances, options);
+  const auto end_clock = static_cast<std::uint64_t>(std::ceil(end_s * kClockHz));
+  while (!truth.done() && truth.clock() < end_clock) {
+    truth.tick();
+    truth.skip(truth.hold_ticks());
+  }
+  std::vector<world::TrajectorySample> samples = truth.trajectory();
+  if (samples.back().truth.time_s < truth.pose().time_s)  // the last, cut short
+    samples.push_back({truth.pose(), {}});
+  return world::interpolate(std::move(samples));
+}
+
+// What the SoC software is told about the world: the vehicle's nominal
+// geometry, the beacons' surveyed positions and timing, the receivers, the
+// air's speed of sound (a thermometer's), and the capture chain's residual
+// error with the air's turbulence (path jitter x c, added to 2 mm).
+sw::LocaliserConfig soc_config(const world::RoomTour& tour) {
+  sw::LocaliserConfig c;
+  c.vehicle = board::nominal_geometry(tour.drive.geometry);
+  c.min_select = sw::min_select_setup(c.vehicle);
+  c.start_pose = {tour.drive.start.x_m, tour.drive.start.y_m, tour.drive.start.theta_rad};
+  for (std::size_t i = 0; i < tour.acoustics.receivers.size(); ++i)
+    c.capture.channels.at(i).enabled = true;
+  const world::AcousticWorld& w = tour.acoustics;
+  c.kleeman.schedule.beacons = static_cast<int>(tour.timing.beacon_count);
+  c.kleeman.schedule.fire_period_s = tour.timing.fire_s();
+  c.kleeman.schedule.pulse_s = tour.timing.pulse_s;
+  c.kleeman.schedule.double_spacing_s = tour.timing.double_pulse_s;
+  c.kleeman.envelope.rise_s = w.beacons.front().envelope_tau_s;  // the receivers, calibrated
+  c.kleeman.envelope.fall_s = w.beacons.front().envelope_tau_s;
+  c.kleeman.envelope.burst_s = tour.timing.pulse_s;
+  c.kleeman.speed_of_sound_mps = w.air.speed_of_sound_mps();
+  c.kleeman.timing_sd_s = std::hypot(w.noise.path_jitter_sd_s, w.noise.receiver_jitter_sd_s);
+  for (const world::Beacon& b : w.beacons)
+    c.kleeman.beacon_positions.push_back({b.position.x_m, b.position.y_m});
+  c.layout = board::beacon_layout(w);
+  c.ekf.history_s = 3.0;
+  c.ekf.odometry.along_sd_per_sqrt_m = 0.003;
+  c.ekf.odometry.across_sd_per_sqrt_m = 0.001;
+  c.ekf.odometry.heading_sd_per_sqrt_m = 0.001;
+  c.ekf.odometry.heading_sd_per_sqrt_rad = 0.005;
+  const double turbulence_m = w.noise.path_jitter_sd_s * w.air.speed_of_sound_mps();
+  c.chain_sd_m = std::hypot(0.001, turbulence_m);
+  return c;
+}
+
+}  // namespace
+
+// The chip and everything on its pins, in construction order.
+class LocalisationSystem::Chip {
+ public:
+  Chip(const world::RoomTour& tour, const world::Trajectory& trajectory,
+       const SystemOptions& options)
+      : acoustic_run_(world::simulate(tour.acoustics, tour.schedule(), trajectory, tour.duration_s,
+                                      options.seed)),
+        truth_(tour.drive.geometry, tour.drive.path, tour.drive.disturbances,
+               world::Options{.start = tour.drive.start}),
+        pins_(acoustic_run_, world::ComparatorKind::kEnvelope, kClockHz),
+        stimulus_(&truth_, &pins_),
+        link_({.half_period = 4}, stimulus_),
+        bus_(link_, {.crc = true, .confirm_writes = true}),
+        localiser_((link_.set_cycle_step(options.cycle_step), bus_), soc_config(tour)) {}
+
+  world::AcousticRun acoustic_run_;
+  world::TricycleSimulator truth_;
+  world::AcousticPins pins_;
+  board::WorldStimulus stimulus_;
+  board::ChipLink link_;
+  sw::SpiRegisterBus bus_;
+  sw::Localiser localiser_;
+};
+
+LocalisationSystem::LocalisationSystem(world::RoomTour tour, const SystemOptions& options)
+    : tour_(std::move(tour)), options_(options) {
+  if (options_.until_s < 0 || !std::isfinite(options_.until_s))
+    throw std::invalid_argument("until_s must be >= 0 s");
+  if (options_.until_s > 0 && options_.until_s < tour_.duration_s) {
+    tour_.duration_s = options_.until_s;
+    cut_short_ = true;
+  }
+  if (!(options_.step_s >= 1e-3 && options_.step_s <= 0.1))
+    throw std::invalid_argument("the SoC loop's period must be in [1 ms, 100 ms]");
+  if (!(options_.encoder_period_s >= options_.step_s && options_.encoder_period_s <= 10))
+    throw std::invalid_argument("the encoder read period must be in [the step, 10 s]");
+  const auto reference_run = [drive = tour_.drive,
+                              end = tour_.duration_s](rtl::MinSelectPolicy policy) {
+    return board::run_scenario(drive, {.policy = policy,
+                                       .tuning = board::MinSelectTuning::kVehicle,
+                                       .record_every_clocks = 500'000,
+                                       .cycle_step = false,
+                                       .max_seconds = end});
+  };
+  rear_future_ = std::async(std::launch::async, reference_run, rtl::MinSelectPolicy::kRearOnly);
+  front_future_ = std::async(std::launch::async, reference_run, rtl::MinSelectPolicy::kFrontOnly);
+  trajectory_ = prepass(tour_.drive, tour_.duration_s);
+  chip_ = std::make_unique<Chip>(tour_, trajectory_, options_);
+}
+
+LocalisationSystem::~LocalisationSystem() = default;
+
+bool LocalisationSystem::done() const {
+  return time_s() >= tour_.duration_s;
+}
+
+Frame LocalisationSystem::step() {
+  ++steps_;
+  const auto target = static_cast<std::uint64_t>(
+      std::llround(static_cast<double>(steps_) * options_.step_s * kClockHz));
+  board::ChipLink& link = chip_->link_;
+  if (target > link.clocks())
+    link.advance(target - link.clocks());
+  Frame f;
+  f.soc = chip_->localiser_.step();
+  f.clocks = link.clocks();
+  f.time_s = static_cast<double>(f.clocks) / kClockHz;
+  f.truth = chip_->truth_.pose().pose;
+  if (steps_ == 1)
+    soc_offset_s_ = f.time_s - f.soc.time_s;
+  const auto encoder_steps = std::max<std::uint64_t>(
+      1, static_cast<std::uint64_t>(std::llround(options_.encoder_period_s / options_.step_s)));
+  if (steps_ % encoder_steps == 0)
+    f.encoders = read_encoders(chip_->bus_);
+  return f;
+}
+
+std::array<EncoderRead, 4> LocalisationSystem::read_encoders(sw::RegisterBus& bus) {
+  std::array<EncoderRead, 4> encoders{};
+  // Per encoder module one burst from count to status (six words).
+  namespace eppm = regs::eppm;
+  for (unsigned i = 0; i < eppm::kInstances; ++i) {
+    const std::uint16_t first = eppm::count::address(i);
+    std::array<std::uint32_t, eppm::status::kOffset - eppm::count::kOffset + 1> words{};
+    bus.read(first, words);
+    const auto word = [&](std::uint16_t address) { return words[address - first]; };
+    const std::uint32_t speed = word(eppm::speed::address(i));
+    encoders[i] = {.count = eppm::count::value.get_signed(word(first)),
+                   .speed = eppm::speed::value.get_signed(speed),
+                   .pulse_mode = eppm::speed::mode.get(speed) != 0,
+                   .valid = eppm::speed::valid.get(speed) != 0,
+                   .stalled = eppm::speed::stalled.get(speed) != 0,
+                   .forward = eppm::status::forward.get(word(eppm::status::address(i))) != 0};
+  }
+  return encoders;
+}
+
+sw::RegisterBus& LocalisationSystem::bus() {
+  return chip_->bus_;
+}
+const sw::Localiser& LocalisationSystem::localiser() const {
+  return chip_->localiser_;
+}
+std::uint64_t LocalisationSystem::clocks() const {
+  return chip_->link_.clocks();
+}
+std::uint64_t LocalisationSystem::skipped_clocks() const {
+  return chip_->link_.skipped_clocks();
+}
+double LocalisationSystem::time_s() const {
+  return static_cast<double>(clocks()) / kClockHz;
+}
+
+world::Pose LocalisationSystem::truth_at(double time_s) const {
+  return trajectory_(time_s);
+}
+
+double LocalisationSystem::to_sim_time(double soc_time_s) const {
+  return soc_time_s + soc_offset_s_;
+}
+
+const board::RunResult& LocalisationSystem::reference(rtl::MinSelectPolicy policy) {
+  std::unique_ptr<board::RunResult>& result =
+      policy == rtl::MinSelectPolicy::kRearOnly ? rear_ : front_;
+  std::future<board::RunResult>& future =
+      policy == rtl::MinSelectPolicy::kRearOnly ? rear_future_ : front_future_;
+  if (policy != rtl::MinSelectPolicy::kRearOnly && policy != rtl::MinSelectPolicy::kFrontOnly)
+    throw std::invalid_argument("reference runs are rear-only and front-only");
+  if (!result)
+    result = std::make_unique<board::RunResult>(future.get());
+  return *result;
+}
+
+}  // namespace odoloc::sim

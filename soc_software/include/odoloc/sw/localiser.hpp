@@ -1,0 +1,138 @@
+// The SoC's localisation loop (docs/fusion.md, "The localisation loop"):
+// the odometry driver, the time-of-flight capture driver, Kleeman's beacon
+// cycle decoder, the multilateration solver and the pose EKF, run together
+// over one sw::RegisterBus. The same code drives the simulated board and a
+// real one.
+//
+// Time: seconds on the robot clock, the capture unit's timestamp counter
+// (tof.timestamp, unwrapped by the capture driver) from where the driver
+// started counting; every output is stamped on it.
+//
+// Each step():
+//   1. reads the fabric's odometry snapshot and the timestamp, and predicts
+//      the filter with the increment since the last step's snapshot
+//      (fuse::increment_between);
+//   2. every capture_period_s, drains the capture unit and hands the batch
+//      to the decoder (a beacon cycle lasts 0.9 s: the FIFOs need no more);
+//   3. for each beacon cycle the batch completed: a fix from all beacons
+//      (locate::multilaterate, the robust Gauss-Newton with the offset) and
+//      a heading from the directions of arrival (locate::beacon_heading),
+//      then
+//        - before the filter has a pose: the first valid fix with a valid
+//          heading initialises it at the fix's time, and the odometry since
+//          then is replayed onto it;
+//        - after: the cycle's ranges as one fuse::RangeSet at the time of
+//          beacon 0's arrival, each range with the robot's motion (from the
+//          odometry kept) between that time and its own capture, fused late
+//          (the filter replays its history).
+// The robot is expected to stand still for the first fix (a cycle of
+// Kleeman's six beacons lasts 0.9 s: a moving robot's fix is smeared along
+// its path; the filter's motion-compensated ranges are not).
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <optional>
+#include <vector>
+
+#include "odoloc/sw/beacon_cycle.hpp"
+#include "odoloc/sw/beacon_fix.hpp"
+#include "odoloc/sw/beacon_heading.hpp"
+#include "odoloc/sw/multilateration.hpp"
+#include "odoloc/sw/odometry_driver.hpp"
+#include "odoloc/sw/pose_ekf.hpp"
+#include "odoloc/sw/register_bus.hpp"
+#include "odoloc/sw/tof_capture_driver.hpp"
+
+namespace odoloc::sw {
+
+struct LocaliserConfig {
+  // The odometry fabric (OdometryDriver::configure) and the pose it starts
+  // from (x m, y m, theta rad: where the robot is docked; only the
+  // odometry's own track starts there, the filter waits for a fix).
+  VehicleGeometry vehicle;
+  MinSelectSetup min_select;
+  std::uint16_t update_clocks = 5000;  // 100 us
+  OdometryPolicy policy = OdometryPolicy::kPerComponent;
+  fuse::Vector3 start_pose = fuse::Vector3::Zero();
+
+  // Ultrasonic capture and Kleeman's beacons. kleeman.timebase is replaced
+  // by the capture driver's.
+  tof::CaptureSetup capture;
+  double capture_period_s = 0.05;  // between drains of the capture unit's FIFOs
+  tof::KleemanConfig kleeman;
+  locate::BeaconLayout layout;
+  locate::MultilaterationOptions multilateration;
+  locate::HeadingOptions heading;
+
+  // Fusion. A range's standard deviation given to the filter is the
+  // decoder's (timing noise) combined with chain_sd_m (the capture chain's
+  // residual error: rise-time compensation, quantisation) and with the
+  // odometry's along-track error over the range's motion.
+  fuse::EkfOptions ekf;
+  double chain_sd_m = 0.002;
+
+  // Throws std::invalid_argument naming the first bad field.
+  void validate() const;
+};
+
+// One beacon cycle and what the loop made of it.
+struct CycleResult {
+  tof::CycleMeasurement measurement;
+  double time_s = 0;  // the fix's time: the mean capture time of the used ranges
+  locate::Fix fix;
+  locate::Heading heading;
+  // What the filter did with the cycle's ranges: kNotInitialised before the
+  // first pose, kAccepted when this cycle's fix initialised it.
+  fuse::Outcome fused = fuse::Outcome::kNotInitialised;
+};
+
+struct LocaliserStep {
+  double time_s = 0;  // the timestamp read with the odometry snapshot
+  FabricOdometry odometry;
+  std::optional<tof::CaptureBatch> batch;  // when this step drained the capture unit
+  std::vector<CycleResult> cycles;         // the cycles this step's batch completed
+  fuse::Estimate estimate;                 // at time_s (not initialised before the first fix)
+};
+
+class Localiser {
+ public:
+  // Configures the fabric's odometry and capture unit over `bus` (which
+  // must outlive the localiser) and arms the enabled channels. Throws
+  // std::invalid_argument for a bad configuration, BusError when the bus
+  // fails, std::runtime_error when the capture unit is absent.
+  Localiser(RegisterBus& bus, const LocaliserConfig& config);
+
+  // One pass of the loop (see the top of this file). Call it at least every
+  // 85 s (the capture driver's unwrapping) and often enough for the
+  // odometry's increments to stay straight enough for the filter (100 Hz).
+  LocaliserStep step();
+
+  [[nodiscard]] const fuse::PoseEkf& filter() const { return ekf_; }
+  [[nodiscard]] const LocaliserConfig& config() const { return config_; }
+  // The capture unit's tick duration and latency.
+  [[nodiscard]] const tof::Timebase& timebase() const { return capture_.timebase(); }
+
+ private:
+  struct OdometrySample {
+    double time_s;
+    fuse::Pose pose;
+  };
+  [[nodiscard]] double now_s();
+  // The fabric's pose at time_s, interpolated between the samples kept
+  // (clamped to the oldest and the newest).
+  [[nodiscard]] fuse::Pose odometry_at(double time_s) const;
+  void process(CycleResult& cycle);
+  void initialise_from(const CycleResult& cycle);
+  [[nodiscard]] fuse::RangeSet motion_compensated(const tof::CycleMeasurement& cycle) const;
+
+  LocaliserConfig config_;
+  OdometryDriver odometry_;
+  tof::CaptureDriver capture_;
+  tof::BeaconCycleDecoder decoder_;
+  fuse::PoseEkf ekf_;
+  std::deque<OdometrySample> track_;  // the fabric's poses of the last steps
+  double last_drain_s_ = -1;          // robot-clock time of the last capture drain
+};
+
+}  // namespace odoloc::sw
