@@ -111,17 +111,8 @@ ChainResult run_chain(const world::Pose& pose, std::size_t cycles, std::uint64_t
     c.enabled = true;
   const PinChain chain(run, {w.receivers.size(), world::ComparatorKind::kEnvelope}, setup, end_s);
 
-  tof::KleemanConfig config;
-  config.schedule.fire_period_s = timing.fire_s();
-  config.schedule.pulse_s = timing.pulse_s;
-  config.schedule.double_spacing_s = timing.double_pulse_s;
-  config.envelope.rise_s = w.beacons[0].envelope_tau_s;  // the receiver model, calibrated
-  config.envelope.fall_s = w.beacons[0].envelope_tau_s;
-  config.envelope.burst_s = timing.pulse_s;
+  tof::KleemanConfig config = odoloc::board::kleeman_config(w, timing);
   config.timebase = chain.timebase;
-  config.speed_of_sound_mps = w.air.speed_of_sound_mps();
-  for (const world::Beacon& b : w.beacons)
-    config.beacon_positions.push_back({b.position.x_m, b.position.y_m});
   tof::BeaconCycleDecoder decoder(config);
 
   ChainResult result;

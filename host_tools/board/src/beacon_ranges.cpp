@@ -17,6 +17,22 @@ loc::BeaconLayout beacon_layout(const world::AcousticWorld& world) {
   return layout;
 }
 
+sw::tof::KleemanConfig kleeman_config(const world::AcousticWorld& world,
+                                      const world::KleemanTiming& timing) {
+  sw::tof::KleemanConfig config;
+  config.schedule.beacons = static_cast<int>(timing.beacon_count);
+  config.schedule.fire_period_s = timing.fire_s();
+  config.schedule.pulse_s = timing.pulse_s;
+  config.schedule.double_spacing_s = timing.double_pulse_s;
+  config.envelope.rise_s = world.beacons.at(0).envelope_tau_s;
+  config.envelope.fall_s = world.beacons.at(0).envelope_tau_s;
+  config.envelope.burst_s = timing.pulse_s;
+  config.speed_of_sound_mps = world.air.speed_of_sound_mps();
+  for (const world::Beacon& b : world.beacons)
+    config.beacon_positions.push_back({b.position.x_m, b.position.y_m});
+  return config;
+}
+
 MeasuredCycle measure_kleeman_cycle(const world::AcousticWorld& world, const world::Pose& pose,
                                     double c_used_mps, double offset_m, double chain_sd_m,
                                     std::uint64_t world_seed,

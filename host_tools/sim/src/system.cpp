@@ -41,7 +41,7 @@ world::Trajectory prepass(const world::Scenario& drive, double end_s) {
 // What the SoC software is told about the world: the vehicle's nominal
 // geometry, the beacons' surveyed positions and timing, the receivers, the
 // air's speed of sound (a thermometer's), and the capture chain's residual
-// error with the air's turbulence (path jitter x c, added to 2 mm).
+// error with the air's turbulence (path jitter x c, added to 1 mm).
 sw::LocaliserConfig soc_config(const world::RoomTour& tour) {
   sw::LocaliserConfig c;
   c.vehicle = board::nominal_geometry(tour.drive.geometry);
@@ -50,17 +50,8 @@ sw::LocaliserConfig soc_config(const world::RoomTour& tour) {
   for (std::size_t i = 0; i < tour.acoustics.receivers.size(); ++i)
     c.capture.channels.at(i).enabled = true;
   const world::AcousticWorld& w = tour.acoustics;
-  c.kleeman.schedule.beacons = static_cast<int>(tour.timing.beacon_count);
-  c.kleeman.schedule.fire_period_s = tour.timing.fire_s();
-  c.kleeman.schedule.pulse_s = tour.timing.pulse_s;
-  c.kleeman.schedule.double_spacing_s = tour.timing.double_pulse_s;
-  c.kleeman.envelope.rise_s = w.beacons.front().envelope_tau_s;  // the receivers, calibrated
-  c.kleeman.envelope.fall_s = w.beacons.front().envelope_tau_s;
-  c.kleeman.envelope.burst_s = tour.timing.pulse_s;
-  c.kleeman.speed_of_sound_mps = w.air.speed_of_sound_mps();
+  c.kleeman = board::kleeman_config(w, tour.timing);
   c.kleeman.timing_sd_s = std::hypot(w.noise.path_jitter_sd_s, w.noise.receiver_jitter_sd_s);
-  for (const world::Beacon& b : w.beacons)
-    c.kleeman.beacon_positions.push_back({b.position.x_m, b.position.y_m});
   c.layout = board::beacon_layout(w);
   c.ekf.history_s = 3.0;
   c.ekf.odometry.along_sd_per_sqrt_m = 0.003;

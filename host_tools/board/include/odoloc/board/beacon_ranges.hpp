@@ -16,7 +16,9 @@
 #include <functional>
 #include <vector>
 
+#include "odoloc/sw/beacon_cycle.hpp"
 #include "odoloc/sw/beacon_fix.hpp"
+#include "odoloc/world/acoustic_systems.hpp"
 #include "odoloc/world/acoustics.hpp"
 
 namespace odoloc::board {
@@ -24,6 +26,13 @@ namespace odoloc::board {
 // The world's beacons as the solvers' layout, in the world's order, each at
 // the world's transmitter height.
 sw::locate::BeaconLayout beacon_layout(const world::AcousticWorld& world);
+
+// What the beacon-cycle decoder is told about a Kleeman world: the
+// controller's timing, the receivers' envelope model (calibrated: the
+// beacons' time constant), the air's speed of sound and the beacons'
+// surveyed positions. The timebase and the timing noise are the caller's.
+sw::tof::KleemanConfig kleeman_config(const world::AcousticWorld& world,
+                                      const world::KleemanTiming& timing);
 
 struct MeasuredCycle {
   sw::locate::RangeSet ranges;      // one BeaconRange per beacon of the world
