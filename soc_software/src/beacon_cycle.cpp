@@ -31,7 +31,7 @@ int popcount(std::uint32_t bits) {
 // ------------------------------------------------------------ configuration
 
 double KleemanConfig::lock_tolerance_s() const {
-  const double cycle = schedule.beacons * schedule.fire_period_s;
+  const double cycle = schedule.cycle_s();
   return max_speed_mps * cycle / speed_of_sound_mps + clock_tolerance_ppm * 1e-6 * cycle +
          double_tolerance_s;
 }
@@ -40,6 +40,8 @@ void KleemanConfig::validate() const {
   const BeaconSchedule& s = schedule;
   require(s.beacons >= 2 && s.beacons <= 64,
           "schedule.beacons must be 2..64, got " + std::to_string(s.beacons));
+  require(s.reserved_slots >= 0 && s.reserved_slots <= 8,
+          "schedule.reserved_slots must be 0..8, got " + std::to_string(s.reserved_slots));
   require(finite_positive(s.fire_period_s), "schedule.fire_period_s must be finite and positive");
   require(finite_positive(s.pulse_s), "schedule.pulse_s must be finite and positive");
   require(finite_positive(s.double_spacing_s),
@@ -124,7 +126,7 @@ void BeaconCycleDecoder::set_fire_period(double seconds) {
   changed.schedule.fire_period_s = seconds;
   changed.validate();
   if (state_ == State::kLocked)  // the next cycle is predicted with the new period
-    anchor_pred_ += changed.schedule.beacons * (seconds - config_.schedule.fire_period_s);
+    anchor_pred_ += changed.schedule.cycle_s() - config_.schedule.cycle_s();
   config_ = std::move(changed);
 }
 
@@ -156,7 +158,7 @@ double BeaconCycleDecoder::tick_time(Tick t) const {
 }
 
 double BeaconCycleDecoder::cycle_s() const {
-  return config_.schedule.beacons * config_.schedule.fire_period_s;
+  return config_.schedule.cycle_s();
 }
 
 double BeaconCycleDecoder::cycle_end(double anchor) const {
@@ -538,7 +540,9 @@ CycleMeasurement BeaconCycleDecoder::decode_cycle(std::vector<Group>& groups, do
   part[0] = std::min(consumed_s_, anchor - separation);
   for (std::size_t k = 1; k < n; ++k)
     part[k] = anchor + static_cast<double>(k) * sch.fire_period_s - separation;
-  part[n] = cycle_end(anchor);
+  const double end = cycle_end(anchor);
+  const double reserved_start = anchor + static_cast<double>(n) * sch.fire_period_s;
+  part[n] = sch.reserved_slots > 0 ? reserved_start - separation : end;
   CycleMeasurement rec = empty_record(anchor, cycle_flags);
   cycle_flags = rec.flags;  // with kOutOfOrder
   rec.beacons.resize(n);
@@ -583,6 +587,14 @@ CycleMeasurement BeaconCycleDecoder::decode_cycle(std::vector<Group>& groups, do
         b.candidates.push_back(std::move(a));
       }
     }
+  }
+
+  for (Group& g : groups) {
+    if (g.t0_s < part[n] || g.t0_s >= end)
+      continue;
+    Arrival& a = rec.reserved.emplace_back(std::move(g.arrival));
+    a.time_s = g.t0_s - reserved_start;
+    a.distance_m = c_ * a.time_s;
   }
 
   // Kleeman 4.3: arrivals can only be late. When several beacons have
@@ -703,20 +715,22 @@ CycleMeasurement BeaconCycleDecoder::decode_cycle(std::vector<Group>& groups, do
   // Channels: use, noise, stuck, silence.
   for (std::size_t ch = 0; ch < channels; ++ch) {
     ChannelStatus& s = rec.channels[ch];
-    s.flags = incident_flags(part[0], part[n], static_cast<int>(ch));
+    s.flags = incident_flags(part[0], end, static_cast<int>(ch));
     s.stuck = s.flags.has(Flag::kStuckChannel);
     for (const Mark& m : saturated_)
-      if (m.channel == static_cast<int>(ch) && m.time_s < part[n])
+      if (m.channel == static_cast<int>(ch) && m.time_s < end)
         s.stuck = true;
     for (const Mark& m : noise_)
-      if (m.channel == static_cast<int>(ch) && m.time_s < part[n])
+      if (m.channel == static_cast<int>(ch) && m.time_s < end)
         ++s.noise;
     rec.noise_pulses += s.noise;
+    std::vector<const std::vector<Arrival>*> lists{&rec.reserved};
     for (const BeaconMeasurement& b : rec.beacons)
-      for (const auto* list : {&b.candidates, &b.rejected})
-        for (const Arrival& a : *list)
-          if ((a.receivers & (1U << ch)) != 0)
-            ++s.pulses;
+      lists.insert(lists.end(), {&b.candidates, &b.rejected});
+    for (const auto* list : lists)
+      for (const Arrival& a : *list)
+        if ((a.receivers & (1U << ch)) != 0)
+          ++s.pulses;
   }
   for (std::size_t ch = 0; ch < channels; ++ch) {
     ChannelStatus& s = rec.channels[ch];

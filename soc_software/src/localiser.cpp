@@ -2,6 +2,7 @@
 #include "odoloc/sw/localiser.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <iterator>
 #include <numbers>
@@ -56,16 +57,22 @@ void LocaliserConfig::validate() const {
                   "layout must have one beacon per kleeman.schedule.beacons");
   // A cycle's ranges are fused when the cycle is complete, up to two
   // cycles after beacon 0's arrival: the filter must keep that much.
-  const double cycle_s = kleeman.schedule.beacons * kleeman.schedule.fire_period_s;
-  detail::require(ekf.history_s >= 2 * cycle_s, kOwner,
+  detail::require(ekf.history_s >= 2 * kleeman.schedule.cycle_s(), kOwner,
                   "ekf.history_s must cover two beacon cycles (the ranges are fused late)");
+  if (station) {
+    station->validate();
+    detail::require(capture.sync_enable, kOwner,
+                    "the base station needs capture.sync_enable (its packets' strobes)");
+    detail::require(kleeman.schedule.reserved_slots >= 1, kOwner,
+                    "the base station needs kleeman.schedule.reserved_slots >= 1 (its bursts)");
+  }
   layout.validate();
   kleeman.validate();
   multilateration.validate();
   ekf.validate();
 }
 
-Localiser::Localiser(RegisterBus& bus, const LocaliserConfig& config)
+Localiser::Localiser(RegisterBus& bus, const LocaliserConfig& config, station::Link* link)
     : config_((config.validate(), config)),
       odometry_(bus),
       capture_(bus, config.capture),
@@ -74,7 +81,10 @@ Localiser::Localiser(RegisterBus& bus, const LocaliserConfig& config)
         k.timebase = capture_.timebase();
         return k;
       }()),
-      ekf_(config.ekf) {
+      ekf_(config.ekf),
+      link_(link) {
+  detail::require(!config_.station || link_ != nullptr, "Localiser",
+                  "a base station (config.station) needs a station::Link");
   odometry_.configure(config_.vehicle, config_.min_select, config_.update_clocks, config_.policy);
   odometry_.set_pose(config_.start_pose.x(), config_.start_pose.y(), config_.start_pose.z());
   std::uint32_t armed = 0;
@@ -96,8 +106,7 @@ LocaliserStep Localiser::step() {
     ekf_.predict(out.time_s, fuse::Increment{fuse::increment_between(track_.back().pose, pose)});
   track_.push_back({out.time_s, pose});
   // Kept: the filter's history and the cycle being decoded.
-  const double keep_s = config_.ekf.history_s +
-                        config_.kleeman.schedule.beacons * config_.kleeman.schedule.fire_period_s;
+  const double keep_s = config_.ekf.history_s + config_.kleeman.schedule.cycle_s();
   while (track_.size() > 2 && track_[1].time_s < out.time_s - keep_s)
     track_.pop_front();
 
@@ -107,10 +116,14 @@ LocaliserStep Localiser::step() {
   }
   last_drain_s_ = out.time_s;
   out.batch = capture_.read();
+  if (config_.station)
+    take_packets(*out.batch, out);
   for (tof::CycleMeasurement& m : decoder_.push(*out.batch)) {
     CycleResult& cycle = out.cycles.emplace_back();
     cycle.measurement = std::move(m);
     process(cycle);
+    if (config_.station)
+      take_ranges(cycle.measurement, out);
   }
   out.estimate = ekf_.estimate();
   return out;
@@ -144,7 +157,8 @@ void Localiser::process(CycleResult& cycle) {
     }
     return;
   }
-  cycle.fused = ekf_.update(m.anchor_s, motion_compensated(m));
+  if (config_.fuse_beacon_ranges)
+    cycle.fused = ekf_.update(m.anchor_s, motion_compensated(m));
 }
 
 void Localiser::initialise_from(const CycleResult& cycle) {
@@ -185,6 +199,76 @@ fuse::RangeSet Localiser::motion_compensated(const tof::CycleMeasurement& cycle)
     set.ranges.push_back(r);
   }
   return set;
+}
+
+void Localiser::take_packets(const tof::CaptureBatch& batch, LocaliserStep& out) {
+  // A lost strobe would pair every later packet with the wrong edge: start
+  // the pairing again from the next packet and edge.
+  const bool lost = std::ranges::any_of(
+      batch.incidents, [](const tof::Incident& i) { return i.channel == tof::kSyncChannel; });
+  while (std::optional<station::Report> r = link_->receive())
+    packets_.push_back(*r);
+  if (lost) {
+    sync_s_.clear();
+    packets_.clear();
+    return;
+  }
+  for (const tof::Tick t : batch.sync)
+    sync_s_.push_back(batch.timebase.edge_time_s(t, 0));
+  for (; !sync_s_.empty() && !packets_.empty(); sync_s_.pop_front(), packets_.pop_front()) {
+    const station::Report& r = packets_.front();
+    const double t = sync_s_.front();
+    const station::StationConfig& st = *config_.station;
+    switch (r.kind) {
+      case station::ReportKind::kStationSawRobot:
+        fuse_station({r.kind, t, station::station_bearing(st, r.count)}, out);
+        break;
+      case station::ReportKind::kRobotSawStation:
+        fuse_station({r.kind, t, station::robot_bearing(st, r.count)}, out);
+        break;
+      case station::ReportKind::kRanging:
+        rangings_.push_back(t);
+        break;
+    }
+  }
+}
+
+void Localiser::take_ranges(const tof::CycleMeasurement& cycle, LocaliserStep& out) {
+  const station::StationConfig& st = *config_.station;
+  const tof::BeaconSchedule& schedule = config_.kleeman.schedule;
+  const double c =
+      cycle.speed_of_sound_mps > 0 ? cycle.speed_of_sound_mps : config_.kleeman.speed_of_sound_mps;
+  const double reserved_start = cycle.anchor_s + schedule.beacons * cycle.fire_period_s;
+  const double cycle_end = cycle.anchor_s + schedule.cycle_s();
+  // Quantisation of the two timestamps (the packet's edge, the arrival's).
+  const double tick_sd_m = c * std::sqrt(2.0) * capture_.timebase().quantisation_sd_s();
+  while (!rangings_.empty() && rangings_.front() + st.t0_s < cycle_end) {
+    const double sent_s = rangings_.front() + st.t0_s;  // the burst leaves the station
+    rangings_.pop_front();
+    // The first wavefront heard by enough receivers after the burst left,
+    // within the range looked for: later ones are echoes.
+    const auto first = std::ranges::find_if(cycle.reserved, [&](const tof::Arrival& a) {
+      const double flight_s = reserved_start + a.time_s - sent_s;
+      return usable(a) && std::popcount(a.receivers) >= config_.kleeman.min_receivers &&
+             flight_s > 0 && flight_s * c <= st.max_range_m;
+    });
+    if (first == cycle.reserved.end())
+      continue;
+    const double arrival_s = reserved_start + first->time_s;
+    fuse::StationRange range;
+    range.station_m = st.position_m;
+    range.height_m = st.height_m;
+    range.distance_m = c * (arrival_s - sent_s);  // Liu eq. 14.8
+    range.sd_m = std::sqrt(first->sd_m * first->sd_m + st.chain_sd_m * st.chain_sd_m +
+                           tick_sd_m * tick_sd_m);
+    fuse_station({station::ReportKind::kRanging, arrival_s, range}, out);
+  }
+}
+
+void Localiser::fuse_station(StationUpdate update, LocaliserStep& out) {
+  if (ekf_.estimate().initialised)
+    update.fused = ekf_.update(update.time_s, update.measurement);
+  out.station.push_back(std::move(update));
 }
 
 }  // namespace odoloc::sw

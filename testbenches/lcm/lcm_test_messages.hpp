@@ -20,6 +20,7 @@
 #include "odoloc_lcm/register_request_t.hpp"
 #include "odoloc_lcm/register_response_t.hpp"
 #include "odoloc_lcm/sim_status_t.hpp"
+#include "odoloc_lcm/station_measurement_t.hpp"
 #include "odoloc_lcm/tof_measurement_set_t.hpp"
 
 namespace odoloc::tb::lcm {
@@ -94,6 +95,19 @@ inline odoloc_lcm::tof_measurement_set_t tof_measurement_set(int k) {
   m.num_channels = static_cast<std::int16_t>(m.channels.size());
   m.has_sync = k % 2 == 0;
   m.sync_tick = (std::int64_t{1} << 40) + 4000LL * k - 11;
+  return m;
+}
+
+inline odoloc_lcm::station_measurement_t station_measurement(int k) {
+  odoloc_lcm::station_measurement_t m{};
+  m.utime = tick_utime(40 * k + 7);
+  constexpr const char* kKinds[] = {"station_bearing", "station_range", "robot_bearing"};
+  m.kind = kKinds[k % 3];
+  m.value = -1.5 + 0.75 * k;
+  m.sd = 1e-3 * (k + 1);
+  m.station_x = 0.3;
+  m.station_y = 5.0 - 0.125 * k;
+  m.outcome = k % 2 == 0 ? "accepted" : "gated";
   return m;
 }
 
@@ -183,6 +197,7 @@ void for_each_channel(F&& f) {
   f.template operator()<odoloc_lcm::odometry_increment_t>(channel::kOdometry);
   f.template operator()<odoloc_lcm::tof_measurement_set_t>(channel::kTof);
   f.template operator()<odoloc_lcm::beacon_fix_t>(channel::kFix);
+  f.template operator()<odoloc_lcm::station_measurement_t>(channel::kStation);
   f.template operator()<odoloc_lcm::pose_estimate_t>(channel::kPose);
   f.template operator()<odoloc_lcm::pose_estimate_t>(channel::kTruth);
   f.template operator()<odoloc_lcm::register_request_t>(channel::kRegRequest);

@@ -100,6 +100,17 @@ void expect_same(const odoloc_lcm::beacon_fix_t& a, const odoloc_lcm::beacon_fix
   EXPECT_EQ(a.valid, b.valid);
 }
 
+void expect_same(const odoloc_lcm::station_measurement_t& a,
+                 const odoloc_lcm::station_measurement_t& b) {
+  EXPECT_EQ(a.utime, b.utime);
+  EXPECT_EQ(a.kind, b.kind);
+  EXPECT_EQ(a.value, b.value);
+  EXPECT_EQ(a.sd, b.sd);
+  EXPECT_EQ(a.station_x, b.station_x);
+  EXPECT_EQ(a.station_y, b.station_y);
+  EXPECT_EQ(a.outcome, b.outcome);
+}
+
 void expect_same(const odoloc_lcm::pose_estimate_t& a, const odoloc_lcm::pose_estimate_t& b) {
   EXPECT_EQ(a.utime, b.utime);
   EXPECT_EQ(a.source, b.source);
@@ -163,6 +174,10 @@ odoloc_lcm::beacon_fix_t sample(int k) {
   return msg::beacon_fix(k);
 }
 template <>
+odoloc_lcm::station_measurement_t sample(int k) {
+  return msg::station_measurement(k);
+}
+template <>
 odoloc_lcm::pose_estimate_t sample(int k) {
   return msg::pose_estimate(k);
 }
@@ -186,7 +201,7 @@ TEST(LcmMessages, ChannelNamesAreDistinctLcmNames) {
     EXPECT_EQ(std::string(name).rfind("ODOLOC_", 0), 0U) << name;
     names.insert(name);
   });
-  EXPECT_EQ(names.size(), 9U);
+  EXPECT_EQ(names.size(), 10U);
   EXPECT_STREQ(odoloc::lcm::kDefaultUrl, "udpm://239.255.76.67:7667?ttl=0");
 }
 

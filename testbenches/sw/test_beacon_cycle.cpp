@@ -98,11 +98,21 @@ struct World {
   std::function<bool(int, int)> fires = [](int, int) { return true; };     // (beacon, cycle)
   std::function<bool(int, int)> blocked = [](int, int) { return false; };  // (beacon, path)
   std::function<LD(int)> schedule_shift = [](int) { return 0.0L; };        // per cycle, s
+  // Slots after the beacons' with no beacon; a station transmitter at
+  // `station` (facing the room's centre) fires in the first one when
+  // station_fires(cycle): emitter index n(), in `truth` as beacon n().
+  int reserved = 0;
+  P2 station{0.05L, 5.0L};
+  std::function<bool(int)> station_fires = [](int) { return true; };
 
   std::map<std::pair<int, int>, Truth> truth;  // (cycle, beacon)
   std::vector<std::vector<RawEvent>> events;   // per channel
 
   [[nodiscard]] int n() const { return static_cast<int>(beacons.size()); }
+  [[nodiscard]] int slots() const { return n() + reserved; }
+  [[nodiscard]] P2 emitter(int k) const {
+    return k < n() ? beacons[static_cast<std::size_t>(k)] : station;
+  }
   [[nodiscard]] LD tick_s() const { return (prescale + 1.0L) / f_clk; }
 
   // The octagon: faces of 50 mm, receivers at the face centres facing out.
@@ -121,14 +131,14 @@ struct World {
   }
   // Beacons face the room's centre.
   [[nodiscard]] LD beacon_axis(int k) const {
-    const P2 b = beacons[static_cast<std::size_t>(k)];
+    const P2 b = emitter(k);
     return std::atan2(height / 2 - b.y, width / 2 - b.x);
   }
   // Path 0: the beacon; 1..4: its images in x = 0, x = W, y = 0, y = H,
   // except in the walls it is mounted on (their reflection is part of its
   // beam). Returns false when the path does not exist.
   bool source(int k, int path, P2& pos, LD& axis) const {
-    const P2 b = beacons[static_cast<std::size_t>(k)];
+    const P2 b = emitter(k);
     axis = beacon_axis(k);
     pos = b;
     switch (path) {
@@ -189,12 +199,12 @@ struct World {
     const LD x_min = 1 / reach;
     std::vector<std::vector<Interval>> iv(rx.size());
     for (int cyc = 0; cyc < cycles; ++cyc) {
-      for (int k = 0; k < n(); ++k) {
-        const LD fire_b = (cyc * n() + k) * t_fire + schedule_shift(cyc);
+      for (int k = 0; k < n() + (reserved > 0 ? 1 : 0); ++k) {
+        const LD fire_b = (cyc * slots() + k) * t_fire + schedule_shift(cyc);
         const LD fire_r = fire_b * (1 + skew) + clock_offset_s;
         Truth& tr = truth[{cyc, k}];
         tr.fire_s = fire_r;
-        tr.fired = fires(k, cyc);
+        tr.fired = k < n() ? fires(k, cyc) : station_fires(cyc);
         {
           P2 src;
           LD axis;
@@ -319,6 +329,7 @@ struct Driver {
 tof::KleemanConfig config_for(const World& w, bool with_positions = false) {
   tof::KleemanConfig cfg;
   cfg.schedule.beacons = w.n();
+  cfg.schedule.reserved_slots = w.reserved;
   cfg.schedule.fire_period_s = static_cast<double>(w.t_fire);
   cfg.schedule.pulse_s = static_cast<double>(w.burst);
   cfg.schedule.double_spacing_s = static_cast<double>(w.t_double);
@@ -337,7 +348,7 @@ tof::KleemanConfig config_for(const World& w, bool with_positions = false) {
 std::vector<tof::CycleMeasurement> run(const World& w, tof::BeaconCycleDecoder& decoder,
                                        const Driver& driver, int cycles) {
   std::vector<tof::CycleMeasurement> out;
-  const LD until = (cycles * w.n() + 0.5L) * w.t_fire + w.clock_offset_s;
+  const LD until = (cycles * w.slots() + 0.5L) * w.t_fire + w.clock_offset_s;
   for (const tof::CaptureBatch& b : driver.batches(w, until))
     for (tof::CycleMeasurement& m : decoder.push(b))
       out.push_back(std::move(m));
@@ -481,6 +492,49 @@ TEST(BeaconCycle, LocksOnTheDoublePulseAndMeasuresEveryBeacon) {
         static_cast<double>(pose.x), static_cast<double>(pose.y), static_cast<double>(pose.theta),
         e.checked, e.max_distance_error * 1e3, e.max_bearing_z);
   }
+}
+
+// A base station's ranging burst in a reserved slot after the beacons'
+// (docs/fusion.md): reported in CycleMeasurement::reserved at its true
+// arrival, never taken for a beacon; the cycle is N + 1 slots long.
+TEST(BeaconCycle, ReservedSlotCarriesTheStationPulse) {
+  World w;
+  w.reserved = 1;
+  w.station_fires = [](int cycle) { return cycle % 3 != 1; };
+  w.pose = [](LD t) { return Pose{3 + 0.5L * t, 4.1L, 0.1L}; };  // 0.5 m/s
+  w.generate(8);
+  tof::BeaconCycleDecoder decoder(config_for(w, true));
+  const auto records = run(w, decoder, Driver{}, 8);
+  ASSERT_GE(records.size(), 6U);
+  int heard = 0, silent = 0;
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const auto& m = records[i];
+    ASSERT_TRUE(m.locked()) << i << " " << tof::to_string(m.flags);
+    if (i > 0) {
+      EXPECT_NEAR(m.cycle_period_s, 7 * 0.150, 2e-3);  // 0.5 m/s changes the range to beacon 0
+    }
+    const int cyc = cycle_of(w, m);
+    const Truth& st = w.truth.at({cyc, w.n()});
+    if (!st.fired) {
+      EXPECT_TRUE(m.reserved.empty()) << i;
+      ++silent;
+      continue;
+    }
+    ASSERT_FALSE(m.reserved.empty()) << i;
+    const tof::Arrival& first = m.reserved.front();
+    const LD slot_start = w.robot_time(m.anchor_s) + w.n() * w.t_fire;
+    EXPECT_NEAR(first.time_s, static_cast<double>(st.fire_s + st.distance / w.c - slot_start),
+                (0.003 + 4 * first.sd_m) / 343.2)
+        << i;
+    EXPECT_NEAR(first.distance_m, static_cast<double>(w.c) * first.time_s, 1e-9);
+    ++heard;
+  }
+  EXPECT_GE(heard, 4);
+  EXPECT_GE(silent, 2);
+  // The beacons are measured as without the station: nothing wrong unflagged.
+  const Errors e = check(w, records);
+  EXPECT_GE(e.checked, static_cast<int>(records.size()) * 3);
+  EXPECT_EQ(e.wrong_unflagged, 0) << e.first_wrong;
 }
 
 TEST(BeaconCycle, DistanceDifferencesAgainstBeaconZero) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <span>
 
 #include "odoloc/world/acoustic_systems.hpp"
 
@@ -10,9 +11,10 @@ namespace odoloc::board {
 
 namespace loc = sw::locate;
 
-loc::BeaconLayout beacon_layout(const world::AcousticWorld& world) {
+loc::BeaconLayout beacon_layout(const world::AcousticWorld& world, std::size_t count) {
   loc::BeaconLayout layout;
-  for (const world::Beacon& b : world.beacons)
+  for (const world::Beacon& b :
+       std::span(world.beacons).first(std::min(count, world.beacons.size())))
     layout.beacons.push_back({{b.position.x_m, b.position.y_m}, world.height_m});
   return layout;
 }
@@ -24,12 +26,13 @@ sw::tof::KleemanConfig kleeman_config(const world::AcousticWorld& world,
   config.schedule.fire_period_s = timing.fire_s();
   config.schedule.pulse_s = timing.pulse_s;
   config.schedule.double_spacing_s = timing.double_pulse_s;
+  config.schedule.reserved_slots = static_cast<int>(timing.reserved_slots);
   config.envelope.rise_s = world.beacons.at(0).envelope_tau_s;
   config.envelope.fall_s = world.beacons.at(0).envelope_tau_s;
   config.envelope.burst_s = timing.pulse_s;
   config.speed_of_sound_mps = world.air.speed_of_sound_mps();
-  for (const world::Beacon& b : world.beacons)
-    config.beacon_positions.push_back({b.position.x_m, b.position.y_m});
+  for (const loc::Beacon& b : beacon_layout(world, timing.beacon_count).beacons)
+    config.beacon_positions.push_back(b.position_m);
   return config;
 }
 

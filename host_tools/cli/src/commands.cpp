@@ -601,6 +601,9 @@ Invocation parse_invocation(std::span<const std::string> args) {
   sim->add_flag("--allow-write", sim_command.allow_write,
                 "let the register bridge write registers (LCM has no authentication)");
   sim->add_flag("--no-plot", sim_command.no_plot, "with --out: no localisation.png");
+  sim->add_flag("--no-beacon-ranges", sim_command.no_beacon_ranges,
+                "Kleeman's beacons only initialise the filter; Liu's base station alone "
+                "corrects it after");
   sim->fallthrough();
 
   CLI::App* watch_top = app.add_subcommand(

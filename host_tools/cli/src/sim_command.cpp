@@ -46,6 +46,19 @@ nlohmann::json table_json(const sim::ErrorReport& report) {
   return rows;
 }
 
+nlohmann::json updates_json(const sw::fuse::PoseEkf& filter) {
+  nlohmann::json types = nlohmann::json::object();
+  for (std::size_t i = 0; i < sw::fuse::kMeasurementTypes; ++i) {
+    const auto type = static_cast<sw::fuse::MeasurementType>(i);
+    const sw::fuse::TypeStats& s = filter.stats(type);
+    types[std::string(sw::fuse::name(type))] = {{"accepted", s.accepted},
+                                                {"reopened", s.reopened},
+                                                {"gated", s.gated},
+                                                {"refused", s.refused}};
+  }
+  return types;
+}
+
 }  // namespace
 
 void run_sim(const SimCommand& command, std::ostream& out, bool json,
@@ -79,7 +92,8 @@ void run_sim(const SimCommand& command, std::ostream& out, bool json,
                                   .step_s = 0.01,
                                   .cycle_step = command.cycle_step,
                                   .encoder_period_s = 0.1,
-                                  .until_s = command.duration_s});
+                                  .until_s = command.duration_s,
+                                  .fuse_beacon_ranges = !command.no_beacon_ranges});
   const world::RoomTour& tour = system.tour();
   if (!json)
     out << fmt::format("odoloc sim: {}, {:.1f} s to simulate, seed {}{}\n", tour.name,
@@ -141,7 +155,8 @@ void run_sim(const SimCommand& command, std::ostream& out, bool json,
                         {"skipped_clocks", summary.skipped_clocks},
                         {"kept_up", summary.kept_up},
                         {"malformed_messages", summary.malformed},
-                        {"table", table_json(report)}};
+                        {"table", table_json(report)},
+                        {"filter_updates", updates_json(system.localiser().filter())}};
     if (!command.out.empty())
       j["files"] = {{"log", log.string()},
                     {"trajectories", trajectories_csv.string()},
@@ -164,6 +179,7 @@ void run_sim(const SimCommand& command, std::ostream& out, bool json,
         "\nreturn to start (the robot stops where it started): fused estimate {:.1f} mm from "
         "the start (Liu et al. report about 100 mm)\n",
         fused.return_to_start_m * 1e3);
+  out << '\n' << sim::update_summary(system.localiser().filter());
   if (live)
     out << fmt::format("register bridge: {} served, {} refused, {} errors; {} malformed messages\n",
                        summary.bridge.served, summary.bridge.refused, summary.bridge.errors,

@@ -85,4 +85,18 @@ std::string ErrorReport::table() const {
   return out;
 }
 
+std::string update_summary(const sw::fuse::PoseEkf& filter) {
+  std::string out = fmt::format("{:<18} {:>9} {:>9} {:>7} {:>8}\n", "filter update", "accepted",
+                                "reopened", "gated", "refused");
+  for (std::size_t i = 0; i < sw::fuse::kMeasurementTypes; ++i) {
+    const auto type = static_cast<sw::fuse::MeasurementType>(i);
+    const sw::fuse::TypeStats& s = filter.stats(type);
+    if (s.accepted + s.reopened + s.gated + s.refused == 0)
+      continue;
+    out += fmt::format("{:<18} {:>9} {:>9} {:>7} {:>8}\n", sw::fuse::name(type), s.accepted,
+                       s.reopened, s.gated, s.refused);
+  }
+  return out;
+}
+
 }  // namespace odoloc::sim

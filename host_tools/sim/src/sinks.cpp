@@ -6,13 +6,16 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <type_traits>
 #include <utility>
+#include <variant>
 
 #include "odoloc/lcm/channels.hpp"
 #include "odoloc_lcm/beacon_fix_t.hpp"
 #include "odoloc_lcm/encoder_state_t.hpp"
 #include "odoloc_lcm/odometry_increment_t.hpp"
 #include "odoloc_lcm/pose_estimate_t.hpp"
+#include "odoloc_lcm/station_measurement_t.hpp"
 #include "odoloc_lcm/tof_measurement_set_t.hpp"
 
 namespace odoloc::sim {
@@ -243,6 +246,26 @@ void LcmSink::frame(const Frame& frame, LocalisationSystem& system) {
     fix.residual_rms = residual_rms_m(c.fix);
     fix.valid = c.fix.valid;
     publish(channel::kFix, fix);
+  }
+  for (const sw::StationUpdate& u : frame.soc.station) {
+    odoloc_lcm::station_measurement_t m{};
+    m.utime = utime(system.to_sim_time(u.time_s));
+    m.kind = std::string(sw::fuse::name(sw::fuse::type_of(u.measurement)));
+    std::visit(
+        [&](const auto& z) {
+          using Z = std::decay_t<decltype(z)>;
+          if constexpr (std::is_same_v<Z, sw::fuse::StationRange>) {
+            m.value = z.distance_m, m.sd = z.sd_m;
+            m.station_x = z.station_m.x(), m.station_y = z.station_m.y();
+          } else if constexpr (std::is_same_v<Z, sw::fuse::StationBearing> ||
+                               std::is_same_v<Z, sw::fuse::RobotBearing>) {
+            m.value = z.bearing_rad, m.sd = z.sd_rad;
+            m.station_x = z.station_m.x(), m.station_y = z.station_m.y();
+          }
+        },
+        u.measurement);
+    m.outcome = std::string(sw::fuse::name(u.fused));
+    publish(channel::kStation, m);
   }
   publish_events(frame, system);
 

@@ -42,8 +42,9 @@ world::Trajectory prepass(const world::Scenario& drive, double end_s) {
 // geometry, the beacons' surveyed positions and timing, the receivers, the
 // air's speed of sound (a thermometer's), and the capture chain's residual
 // error with the air's turbulence (path jitter x c, added to 1 mm).
-sw::LocaliserConfig soc_config(const world::RoomTour& tour) {
+sw::LocaliserConfig soc_config(const world::RoomTour& tour, const SystemOptions& options) {
   sw::LocaliserConfig c;
+  c.fuse_beacon_ranges = options.fuse_beacon_ranges;
   c.vehicle = board::nominal_geometry(tour.drive.geometry);
   c.min_select = sw::min_select_setup(c.vehicle);
   c.start_pose = {tour.drive.start.x_m, tour.drive.start.y_m, tour.drive.start.theta_rad};
@@ -52,7 +53,7 @@ sw::LocaliserConfig soc_config(const world::RoomTour& tour) {
   const world::AcousticWorld& w = tour.acoustics;
   c.kleeman = board::kleeman_config(w, tour.timing);
   c.kleeman.timing_sd_s = std::hypot(w.noise.path_jitter_sd_s, w.noise.receiver_jitter_sd_s);
-  c.layout = board::beacon_layout(w);
+  c.layout = board::beacon_layout(w, tour.timing.beacon_count);
   c.ekf.history_s = 3.0;
   c.ekf.odometry.along_sd_per_sqrt_m = 0.003;
   c.ekf.odometry.across_sd_per_sqrt_m = 0.001;
@@ -60,8 +61,48 @@ sw::LocaliserConfig soc_config(const world::RoomTour& tour) {
   c.ekf.odometry.heading_sd_per_sqrt_rad = 0.005;
   const double turbulence_m = w.noise.path_jitter_sd_s * w.air.speed_of_sound_mps();
   c.chain_sd_m = std::hypot(0.001, turbulence_m);
+  if (tour.station) {
+    // Surveyed and calibrated: the station's place, its t0, the lasers'
+    // encoder indices.
+    const world::BaseStation& st = *tour.station;
+    sw::station::StationConfig& sc = c.station.emplace();
+    sc.position_m = {st.position.x_m, st.position.y_m};
+    sc.height_m = w.height_m;
+    sc.t0_s = w.beacons.at(st.transmitter).electronics_delay_s;
+    sc.station_laser = {st.station_laser.sweep_start_rad, st.station_laser.counts_per_rev};
+    sc.robot_laser = {st.robot_laser.sweep_start_rad, st.robot_laser.counts_per_rev};
+    sc.chain_sd_m = c.chain_sd_m;
+    c.capture.sync_enable = true;
+  }
   return c;
 }
+
+// The base station's RF packets as the robot's radio hands them over: each
+// one once simulated time has reached its strobe.
+class StationRadio final : public sw::station::Link {
+ public:
+  explicit StationRadio(std::vector<world::StationReport> reports) : reports_(std::move(reports)) {}
+  void advance_to(double time_s) { now_s_ = time_s; }
+  std::optional<sw::station::Report> receive() override {
+    if (next_ >= reports_.size() || reports_[next_].strobe_s > now_s_)
+      return std::nullopt;
+    const world::StationReport& r = reports_[next_++];
+    switch (r.kind) {
+      case world::StationReportKind::kStationSawRobot:
+        return sw::station::Report{sw::station::ReportKind::kStationSawRobot, r.count};
+      case world::StationReportKind::kRobotSawStation:
+        return sw::station::Report{sw::station::ReportKind::kRobotSawStation, r.count};
+      case world::StationReportKind::kRanging:
+        break;
+    }
+    return sw::station::Report{sw::station::ReportKind::kRanging, 0};
+  }
+
+ private:
+  std::vector<world::StationReport> reports_;
+  std::size_t next_ = 0;
+  double now_s_ = 0;
+};
 
 }  // namespace
 
@@ -69,16 +110,18 @@ sw::LocaliserConfig soc_config(const world::RoomTour& tour) {
 class LocalisationSystem::Chip {
  public:
   Chip(const world::RoomTour& tour, const world::Trajectory& trajectory,
-       const SystemOptions& options)
-      : acoustic_run_(world::simulate(tour.acoustics, tour.schedule(), trajectory, tour.duration_s,
-                                      options.seed)),
+       const world::StationPlan& plan, const SystemOptions& options)
+      : acoustic_run_(world::simulate(tour.acoustics, tour.schedule(plan), trajectory,
+                                      tour.duration_s, options.seed)),
         truth_(tour.drive.geometry, tour.drive.path, tour.drive.disturbances,
                world::Options{.start = tour.drive.start}),
         pins_(acoustic_run_, world::ComparatorKind::kEnvelope, kClockHz),
         stimulus_(&truth_, &pins_),
         link_({.half_period = 4}, stimulus_),
         bus_(link_, {.crc = true, .confirm_writes = true}),
-        localiser_((link_.set_cycle_step(options.cycle_step), bus_), soc_config(tour)) {}
+        radio_(plan.reports),
+        localiser_((link_.set_cycle_step(options.cycle_step), bus_), soc_config(tour, options),
+                   &radio_) {}
 
   world::AcousticRun acoustic_run_;
   world::TricycleSimulator truth_;
@@ -86,6 +129,7 @@ class LocalisationSystem::Chip {
   board::WorldStimulus stimulus_;
   board::ChipLink link_;
   sw::SpiRegisterBus bus_;
+  StationRadio radio_;
   sw::Localiser localiser_;
 };
 
@@ -112,7 +156,7 @@ LocalisationSystem::LocalisationSystem(world::RoomTour tour, const SystemOptions
   rear_future_ = std::async(std::launch::async, reference_run, rtl::MinSelectPolicy::kRearOnly);
   front_future_ = std::async(std::launch::async, reference_run, rtl::MinSelectPolicy::kFrontOnly);
   trajectory_ = prepass(tour_.drive, tour_.duration_s);
-  chip_ = std::make_unique<Chip>(tour_, trajectory_, options_);
+  chip_ = std::make_unique<Chip>(tour_, trajectory_, tour_.station_plan(trajectory_), options_);
 }
 
 LocalisationSystem::~LocalisationSystem() = default;
@@ -128,6 +172,7 @@ Frame LocalisationSystem::step() {
   board::ChipLink& link = chip_->link_;
   if (target > link.clocks())
     link.advance(target - link.clocks());
+  chip_->radio_.advance_to(static_cast<double>(link.clocks()) / kClockHz);
   Frame f;
   f.soc = chip_->localiser_.step();
   f.clocks = link.clocks();

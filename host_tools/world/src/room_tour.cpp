@@ -36,10 +36,20 @@ double path_seconds(const Path& path) {
 
 }  // namespace
 
-Schedule RoomTour::schedule() const {
+StationPlan RoomTour::station_plan(const Trajectory& robot) const {
+  if (!station)
+    return {};
+  return plan_base_station(*station, acoustics, timing, robot, first_burst_s, duration_s);
+}
+
+Schedule RoomTour::schedule(const StationPlan& plan) const {
   const auto cycles =
       static_cast<std::size_t>(std::ceil((duration_s - first_burst_s) / timing.cycle_s()));
-  return kleeman_schedule(timing, cycles, first_burst_s);
+  Schedule s = kleeman_schedule(timing, cycles, first_burst_s);
+  s.emissions.insert(s.emissions.end(), plan.schedule.emissions.begin(),
+                     plan.schedule.emissions.end());
+  s.sync.insert(s.sync.end(), plan.schedule.sync.begin(), plan.schedule.sync.end());
+  return s;
 }
 
 RoomTour room_tour(std::size_t laps, double speed_mps, double wait_s) {
@@ -91,6 +101,25 @@ RoomTour room_tour(std::size_t laps, double speed_mps, double wait_s) {
   // beacon 2 (the (10, 0) corner), 1.2 m beyond the corner: off the line
   // from the start.
   tour.acoustics.obstacles.push_back({{8.75, 0.55}, {9.45, 1.25}, 0.02});
+
+  // Liu's base station. Its transmitter rotates with its laser in Liu's;
+  // here it bursts up to a cycle after the hit, so five transducers 45
+  // degrees apart face the whole room (as Kleeman's mid-wall pairs, wider),
+  // at the beacons' height.
+  BaseStation& station = tour.station.emplace();
+  station.position = {0.3, 5.0};
+  station.transmitter = tour.acoustics.beacons.size();
+  Beacon transmitter = tour.acoustics.beacons.front();
+  transmitter.position = station.position;
+  transmitter.axes_rad = {-90 * kDeg, -45 * kDeg, 0, 45 * kDeg, 90 * kDeg};
+  transmitter.electronics_delay_s = 2e-3;  // Liu's t0
+  tour.acoustics.beacons.push_back(transmitter);
+  tour.timing.reserved_slots = 1;
+  station.station_laser.sweep_start_rad = -80 * kDeg;
+  station.station_laser.sweep_width_rad = 160 * kDeg;
+  station.robot_laser.sweep_start_rad = -170 * kDeg;
+  station.robot_laser.sweep_width_rad = 340 * kDeg;
+  station.robot_laser.phase_s = 1.3;  // not in step with the station's
   return tour;
 }
 

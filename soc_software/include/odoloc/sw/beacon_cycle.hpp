@@ -47,6 +47,14 @@ struct BeaconSchedule {
   // (start to start: the receiver times rises; Kleeman's "separation ...
   // slightly larger" than the pulse leaves a 3 ms gap).
   double double_spacing_s = 5.5e-3;
+  // Slots after the last beacon's in which no beacon fires: a base
+  // station's ranging burst goes there (docs/fusion.md, "Liu's base
+  // station"), out of the beacons' way. What arrives in them is reported in
+  // CycleMeasurement::reserved, not taken for a beacon.
+  int reserved_slots = 0;
+
+  // The cycle: (beacons + reserved_slots) t_fire.
+  [[nodiscard]] double cycle_s() const { return (beacons + reserved_slots) * fire_period_s; }
 };
 
 struct KleemanConfig {

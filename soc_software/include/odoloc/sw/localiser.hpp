@@ -1,4 +1,4 @@
-// The SoC's localisation loop (docs/fusion.md, "The localisation loop"):
+// The SoC's localisation loop (docs/simulator.md, "The SoC loop"):
 // the odometry driver, the time-of-flight capture driver, Kleeman's beacon
 // cycle decoder, the multilateration solver and the pose EKF, run together
 // over one sw::RegisterBus. The same code drives the simulated board and a
@@ -25,6 +25,12 @@
 //          beacon 0's arrival, each range with the robot's motion (from the
 //          odometry kept) between that time and its own capture, fused late
 //          (the filter replays its history).
+//   4. with Liu's base station (base_station.hpp): the sync input's rising
+//      edges of the batch, paired in order with the RF link's packets,
+//      time them: alpha and beta are fused as bearings at their packet's
+//      time; a ranging packet's burst is looked for in the reserved slot of
+//      the cycle that holds it, and its range (Liu eq. 14.8) fused at its
+//      arrival. Before the filter has a pose they are dropped.
 // The robot is expected to stand still for the first fix (a cycle of
 // Kleeman's six beacons lasts 0.9 s: a moving robot's fix is smeared along
 // its path; the filter's motion-compensated ranges are not).
@@ -35,6 +41,7 @@
 #include <optional>
 #include <vector>
 
+#include "odoloc/sw/base_station.hpp"
 #include "odoloc/sw/beacon_cycle.hpp"
 #include "odoloc/sw/beacon_fix.hpp"
 #include "odoloc/sw/beacon_heading.hpp"
@@ -71,6 +78,14 @@ struct LocaliserConfig {
   // odometry's along-track error over the range's motion.
   fuse::EkfOptions ekf;
   double chain_sd_m = 0.002;
+  // false: the beacons only initialise the filter (then the base station
+  // alone corrects the odometry).
+  bool fuse_beacon_ranges = true;
+
+  // Liu's base station: needs capture.sync_enable (the RF packets' strobes)
+  // and kleeman.schedule.reserved_slots >= 1 (its bursts), and a
+  // station::Link given to the Localiser.
+  std::optional<station::StationConfig> station;
 
   // Throws std::invalid_argument naming the first bad field.
   void validate() const;
@@ -83,7 +98,18 @@ struct CycleResult {
   locate::Fix fix;
   locate::Heading heading;
   // What the filter did with the cycle's ranges: kNotInitialised before the
-  // first pose, kAccepted when this cycle's fix initialised it.
+  // first pose (or with fuse_beacon_ranges off), kAccepted when this
+  // cycle's fix initialised it.
+  fuse::Outcome fused = fuse::Outcome::kNotInitialised;
+};
+
+// One base-station measurement and what the filter did with it.
+struct StationUpdate {
+  station::ReportKind kind = station::ReportKind::kRanging;
+  // Its capture time on the robot clock: the packet's sync edge (bearings)
+  // or the burst's arrival at the robot origin (a range).
+  double time_s = 0;
+  fuse::Measurement measurement;  // StationBearing, RobotBearing or StationRange
   fuse::Outcome fused = fuse::Outcome::kNotInitialised;
 };
 
@@ -92,16 +118,20 @@ struct LocaliserStep {
   FabricOdometry odometry;
   std::optional<tof::CaptureBatch> batch;  // when this step drained the capture unit
   std::vector<CycleResult> cycles;         // the cycles this step's batch completed
+  std::vector<StationUpdate> station;      // the base station's measurements this step made
   fuse::Estimate estimate;                 // at time_s (not initialised before the first fix)
 };
 
 class Localiser {
  public:
   // Configures the fabric's odometry and capture unit over `bus` (which
-  // must outlive the localiser) and arms the enabled channels. Throws
-  // std::invalid_argument for a bad configuration, BusError when the bus
-  // fails, std::runtime_error when the capture unit is absent.
-  Localiser(RegisterBus& bus, const LocaliserConfig& config);
+  // must outlive the localiser) and arms the enabled channels. `link`
+  // (which must outlive the localiser too) brings the base station's
+  // packets; it is required with config.station. Throws
+  // std::invalid_argument for a bad configuration or a missing link,
+  // BusError when the bus fails, std::runtime_error when the capture unit
+  // is absent.
+  Localiser(RegisterBus& bus, const LocaliserConfig& config, station::Link* link = nullptr);
 
   // One pass of the loop (see the top of this file). Call it at least every
   // 85 s (the capture driver's unwrapping) and often enough for the
@@ -125,6 +155,11 @@ class Localiser {
   void process(CycleResult& cycle);
   void initialise_from(const CycleResult& cycle);
   [[nodiscard]] fuse::RangeSet motion_compensated(const tof::CycleMeasurement& cycle) const;
+  // Pairs the batch's sync edges with the link's packets (base_station.hpp).
+  void take_packets(const tof::CaptureBatch& batch, LocaliserStep& out);
+  // The ranges of the pending ranging packets whose bursts fall in `cycle`.
+  void take_ranges(const tof::CycleMeasurement& cycle, LocaliserStep& out);
+  void fuse_station(StationUpdate update, LocaliserStep& out);
 
   LocaliserConfig config_;
   OdometryDriver odometry_;
@@ -133,6 +168,10 @@ class Localiser {
   fuse::PoseEkf ekf_;
   std::deque<OdometrySample> track_;  // the fabric's poses of the last steps
   double last_drain_s_ = -1;          // robot-clock time of the last capture drain
+  station::Link* link_;
+  std::deque<double> sync_s_;            // sync edges not yet paired with a packet
+  std::deque<station::Report> packets_;  // packets not yet paired with a sync edge
+  std::deque<double> rangings_;          // ranging packets' times, bursts not yet taken
 };
 
 }  // namespace odoloc::sw

@@ -345,18 +345,24 @@ struct CycleMeasurement {
   // The cycle's reference on the robot clock, seconds after tick 0 of the
   // driver's count (Timebase::edge_time_s(tick, 0)): the compensated arrival
   // of beacon 0's first pulse at the robot origin; when kCoasted the previous
-  // anchor plus N t_fire. Slot k starts at anchor_s + k fire_period_s.
+  // anchor plus the cycle ((N + reserved slots) t_fire). Slot k starts at
+  // anchor_s + k fire_period_s.
   double anchor_s = 0;
   double fire_period_s = 0;       // t_fire used
   double speed_of_sound_mps = 0;  // c used (distance_m = c time_s)
   // anchor_s minus the previous record's, when both anchors were measured
-  // in consecutive cycles; NaN otherwise. N t_fire x (beacon clock / robot
+  // in consecutive cycles; NaN otherwise. The cycle x (beacon clock / robot
   // clock) + (change of the range to beacon 0)/c.
   double cycle_period_s = std::numeric_limits<double>::quiet_NaN();
   std::vector<BeaconMeasurement> beacons;  // index = beacon; empty when kLockLost
-  std::vector<ChannelStatus> channels;     // index = receiver channel
-  int noise_pulses = 0;                    // too short, dropped (all channels)
-  int dropped_events = 0;                  // out of order / too late / unwrap-ambiguous
+  // Every wavefront in the reserved slots (BeaconSchedule::reserved_slots),
+  // ordered by arrival; time_s counts from the first reserved slot's start,
+  // anchor_s + N fire_period_s (no beacon: distance_m is c time_s, offset
+  // by nothing in particular).
+  std::vector<Arrival> reserved;
+  std::vector<ChannelStatus> channels;  // index = receiver channel
+  int noise_pulses = 0;                 // too short, dropped (all channels)
+  int dropped_events = 0;               // out of order / too late / unwrap-ambiguous
 
   [[nodiscard]] bool locked() const { return !beacons.empty(); }
 };

@@ -23,14 +23,17 @@
 
 namespace odoloc::board {
 
-// The world's beacons as the solvers' layout, in the world's order, each at
-// the world's transmitter height.
-sw::locate::BeaconLayout beacon_layout(const world::AcousticWorld& world);
+// The world's first `count` beacons (all by default; the others are not
+// Kleeman's, e.g. a base station's transmitter) as the solvers' layout, in
+// the world's order, each at the world's transmitter height.
+sw::locate::BeaconLayout beacon_layout(const world::AcousticWorld& world,
+                                       std::size_t count = SIZE_MAX);
 
 // What the beacon-cycle decoder is told about a Kleeman world: the
-// controller's timing, the receivers' envelope model (calibrated: the
-// beacons' time constant), the air's speed of sound and the beacons'
-// surveyed positions. The timebase and the timing noise are the caller's.
+// controller's timing (with its reserved slots), the receivers' envelope
+// model (calibrated: the beacons' time constant), the air's speed of sound
+// and the positions of the timing's beacon_count beacons. The timebase and the timing noise are the
+// caller's.
 sw::tof::KleemanConfig kleeman_config(const world::AcousticWorld& world,
                                       const world::KleemanTiming& timing);
 

@@ -28,7 +28,8 @@ struct SimCommand {
   bool realtime = false;     // paced to the wall clock
   bool allow_write = false;  // the register bridge carries out writes
   bool no_plot = false;
-  bool cycle_step = false;  // the chip stepped every clock (bit-identical, slower)
+  bool cycle_step = false;        // the chip stepped every clock (bit-identical, slower)
+  bool no_beacon_ranges = false;  // the beacons only initialise; the base station corrects
 };
 
 // Runs the tour; prints what it runs, then the table (with `json`, one JSON

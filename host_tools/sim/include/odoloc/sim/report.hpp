@@ -16,6 +16,7 @@
 #include <string>
 #include <string_view>
 
+#include "odoloc/sw/pose_ekf.hpp"
 #include "odoloc/world/tricycle.hpp"
 
 namespace odoloc::sim {
@@ -59,5 +60,10 @@ class ErrorReport {
   world::Pose start_;
   std::array<Sums, kSources> sums_{};
 };
+
+// What the filter did with each measurement type it was given, one line
+// per type with any: accepted, reopened, gated, refused (first passes, not
+// replays; sw::fuse::TypeStats).
+[[nodiscard]] std::string update_summary(const sw::fuse::PoseEkf& filter);
 
 }  // namespace odoloc::sim

@@ -64,7 +64,8 @@ class CsvSink final : public FrameSink {
 
 // Every stage on LCM (docs/lcm.md): the truth, the encoder modules, the
 // odometry read, the capture unit's events and the fix of each beacon
-// cycle, the poses (fused, min-select odometry, rear-only, front-only).
+// cycle, the base station's measurements, the poses (fused, min-select
+// odometry, rear-only, front-only).
 // Message times are simulated microseconds. Either published on a live
 // connection, or written to an LCM event log whose event timestamps are the
 // simulated times too, so lcm-logplayer replays the run at the robot's pace

@@ -35,6 +35,9 @@ struct SystemOptions {
   // > 0: the run ends at this simulated time, before the tour's end (the
   // world, the chip and the reference runs stop there too).
   double until_s = 0;
+  // false: Kleeman's beacons only initialise the filter; then Liu's base
+  // station alone corrects the odometry (sw::LocaliserConfig).
+  bool fuse_beacon_ranges = true;
 };
 
 // One encoder module as read (eppm.count, eppm.speed, eppm.status).

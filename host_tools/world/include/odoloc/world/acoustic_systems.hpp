@@ -25,13 +25,20 @@ struct KleemanTiming {
   // > 0: a sync pulse of this width from beacon 0 at each cycle start (a test
   // aid: Kleeman's robot has no link to the beacons).
   double cycle_sync_s = 0;
+  // Slots after the last beacon's in which no beacon fires: a cycle lasts
+  // (beacon_count + reserved_slots) t_fire. A base station's ranging pulse
+  // (base_station.hpp) goes in the first one, so the receivers that also
+  // serve the beacons never hear it in a beacon's slot.
+  std::size_t reserved_slots = 0;
 
   [[nodiscard]] double fire_s() const { return timer_tick_s * fire_ticks; }
-  [[nodiscard]] double cycle_s() const { return fire_s() * static_cast<double>(beacon_count); }
+  [[nodiscard]] double cycle_s() const {
+    return fire_s() * static_cast<double>(beacon_count + reserved_slots);
+  }
 };
-// `cycles` beacon cycles from start_s: beacon i is triggered at
-// start_s + (cycle * N + i) t_fire. Throws std::invalid_argument when the
-// pulses do not fit in a slot.
+// `cycles` beacon cycles from start_s: beacon i of cycle k is triggered at
+// start_s + (k (N + R) + i) t_fire, R = reserved_slots (whose slots stay
+// silent). Throws std::invalid_argument when the pulses do not fit in a slot.
 Schedule kleeman_schedule(const KleemanTiming& timing, std::size_t cycles, double start_s = 0);
 
 // An RF-triggered transmitter: an RF sync pulse at each trigger, the
