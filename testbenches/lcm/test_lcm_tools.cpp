@@ -16,6 +16,8 @@
 #include <filesystem>
 #include <lcm/lcm-cpp.hpp>
 #include <map>
+#include <nlohmann/json.hpp>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -180,6 +182,49 @@ TEST_F(LcmTools, SimulatorLogReplaysIntoASubscriberProcess) {
 // refused (the simulator runs without --allow-write) and changes nothing,
 // garbage on the request channel is ignored and counted, and
 // `odoloc watch pose` prints the live estimate.
+// `odoloc --json sim --no-beacon-ranges`: the JSON counts what the filter
+// did with each kind of measurement, Kleeman's ranges none (they only
+// initialise it), and the log's ODOLOC_STATION messages agree with those
+// counts outcome for outcome. No network: the run writes its log.
+TEST(SimulatorJson, FilterUpdatesAgreeWithTheStationMessages) {
+  const fs::path dir = odoloc::tb::fresh_dir("odoloc_lcm_tools", "json");
+  const ProgramResult sim =
+      odoloc::process::run_program(ODOLOC_CLI,
+                                   {"--json", "sim", "--duration", "12", "--no-beacon-ranges",
+                                    "--out", (dir / "run").string(), "--no-plot"},
+                                   dir);
+  ASSERT_TRUE(sim.ok()) << sim.message;
+  const std::size_t brace = sim.message.rfind("\n{");
+  const nlohmann::json j = nlohmann::json::parse(
+      sim.message.substr(brace == std::string::npos ? 0 : brace + 1), nullptr, false);
+  ASSERT_FALSE(j.is_discarded()) << sim.message;
+  const nlohmann::json& updates = j.at("filter_updates");
+  EXPECT_EQ(updates.size(), 7U);
+  EXPECT_EQ(updates.at("beacon_range").at("accepted"), 0);
+  std::map<std::pair<std::string, std::string>, int> logged;  // (kind, outcome)
+  for (const Logged& e : read_log(dir / "run" / "odoloc.lcmlog")) {
+    if (e.channel != odoloc::lcm::channel::kStation)
+      continue;
+    odoloc_lcm::station_measurement_t m{};
+    ASSERT_TRUE(odoloc::lcm::decode(e.bytes.data(), e.bytes.size(), m));
+    ++logged[{m.kind, m.outcome}];
+  }
+  int accepted = 0;
+  for (const std::string kind : {"station_bearing", "station_range", "robot_bearing"}) {
+    SCOPED_TRACE(kind);
+    for (const std::string outcome : {"accepted", "reopened", "gated"})
+      EXPECT_EQ(updates.at(kind).at(outcome), (logged[{kind, outcome}])) << outcome;
+    accepted += updates.at(kind).at("accepted").get<int>();
+  }
+  // 12 s: the first fix after about 2 s, then a hit of each laser every
+  // 2.5 s or so.
+  EXPECT_GE(accepted, 6);
+  std::set<std::string> kinds;
+  for (const auto& [key, n] : logged)
+    kinds.insert(key.first);
+  EXPECT_EQ(kinds, (std::set<std::string>{"station_bearing", "station_range", "robot_bearing"}));
+}
+
 TEST_F(LcmTools, SimulatorAnswersTheRegisterBridge) {
   const fs::path dir = odoloc::tb::fresh_dir("odoloc_lcm_tools", "bridge");
   // $1 odoloc, $2 URL, $3 folder, $4 peer.
