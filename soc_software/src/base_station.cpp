@@ -20,6 +20,25 @@ double LaserEncoder::sd_rad() const {
   return step_rad() / std::sqrt(12.0);
 }
 
+void PacketTimer::add_edges(std::span<const double> edges_s, bool edges_lost) {
+  if (edges_lost) {
+    dropped_ += packets_.size();
+    packets_.clear();
+    edges_s_.clear();
+    return;
+  }
+  edges_s_.insert(edges_s_.end(), edges_s.begin(), edges_s.end());
+}
+
+std::optional<TimedReport> PacketTimer::next() {
+  if (edges_s_.empty() || packets_.empty())
+    return std::nullopt;
+  const TimedReport paired{packets_.front(), edges_s_.front()};
+  packets_.pop_front();
+  edges_s_.pop_front();
+  return paired;
+}
+
 void StationConfig::validate() const {
   constexpr std::string_view kOwner = "StationConfig";
   detail::require(position_m.allFinite(), kOwner, "position_m must be finite");

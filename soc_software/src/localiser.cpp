@@ -202,32 +202,26 @@ fuse::RangeSet Localiser::motion_compensated(const tof::CycleMeasurement& cycle)
 }
 
 void Localiser::take_packets(const tof::CaptureBatch& batch, LocaliserStep& out) {
-  // A lost strobe would pair every later packet with the wrong edge: start
-  // the pairing again from the next packet and edge.
-  const bool lost = std::ranges::any_of(
-      batch.incidents, [](const tof::Incident& i) { return i.channel == tof::kSyncChannel; });
   while (std::optional<station::Report> r = link_->receive())
-    packets_.push_back(*r);
-  if (lost) {
-    sync_s_.clear();
-    packets_.clear();
-    return;
-  }
+    packets_.add_packet(*r);
+  std::vector<double> edges_s;
   for (const tof::Tick t : batch.sync)
-    sync_s_.push_back(batch.timebase.edge_time_s(t, 0));
-  for (; !sync_s_.empty() && !packets_.empty(); sync_s_.pop_front(), packets_.pop_front()) {
-    const station::Report& r = packets_.front();
-    const double t = sync_s_.front();
-    const station::StationConfig& st = *config_.station;
+    edges_s.push_back(batch.timebase.edge_time_s(t, 0));
+  packets_.add_edges(edges_s, std::ranges::any_of(batch.incidents, [](const tof::Incident& i) {
+                       return i.channel == tof::kSyncChannel;
+                     }));
+  const station::StationConfig& st = *config_.station;
+  while (const std::optional<station::TimedReport> p = packets_.next()) {
+    const station::Report& r = p->report;
     switch (r.kind) {
       case station::ReportKind::kStationSawRobot:
-        fuse_station({r.kind, t, station::station_bearing(st, r.count)}, out);
+        fuse_station({r.kind, p->time_s, station::station_bearing(st, r.count)}, out);
         break;
       case station::ReportKind::kRobotSawStation:
-        fuse_station({r.kind, t, station::robot_bearing(st, r.count)}, out);
+        fuse_station({r.kind, p->time_s, station::robot_bearing(st, r.count)}, out);
         break;
       case station::ReportKind::kRanging:
-        rangings_.push_back(t);
+        rangings_.push_back(p->time_s);
         break;
     }
   }

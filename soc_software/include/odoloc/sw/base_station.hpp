@@ -19,7 +19,9 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <optional>
+#include <span>
 
 #include "odoloc/sw/pose_ekf.hpp"
 
@@ -45,6 +47,35 @@ class Link {
   virtual ~Link() = default;
   // The next packet received, if any. Never blocks.
   virtual std::optional<Report> receive() = 0;
+};
+
+// A packet with its time on the robot clock (its sync edge).
+struct TimedReport {
+  Report report;
+  double time_s = 0;
+};
+
+// Pairs the RF packets with the sync input's rising edges, in order (each
+// packet pulsed the input once as it arrived; a packet the radio drops
+// makes no edge). A lost edge (the sync FIFO overflowed: the capture
+// driver reports an incident on the sync input) would shift every later
+// pair, so the pairing starts again from the next batch: what is waiting,
+// and that batch's edges, are dropped.
+class PacketTimer {
+ public:
+  void add_packet(const Report& packet) { packets_.push_back(packet); }
+  // One capture batch's sync edges (robot-clock seconds, oldest first);
+  // `edges_lost`: the batch reports an incident on the sync input.
+  void add_edges(std::span<const double> edges_s, bool edges_lost);
+  // The oldest packet with its edge's time, once both have come.
+  std::optional<TimedReport> next();
+  // Packets dropped when the pairing started again.
+  [[nodiscard]] std::uint64_t dropped() const { return dropped_; }
+
+ private:
+  std::deque<double> edges_s_;
+  std::deque<Report> packets_;
+  std::uint64_t dropped_ = 0;
 };
 
 // A scanning laser's incremental encoder: count n means the laser pointed

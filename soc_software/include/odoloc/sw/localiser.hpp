@@ -169,9 +169,8 @@ class Localiser {
   std::deque<OdometrySample> track_;  // the fabric's poses of the last steps
   double last_drain_s_ = -1;          // robot-clock time of the last capture drain
   station::Link* link_;
-  std::deque<double> sync_s_;            // sync edges not yet paired with a packet
-  std::deque<station::Report> packets_;  // packets not yet paired with a sync edge
-  std::deque<double> rangings_;          // ranging packets' times, bursts not yet taken
+  station::PacketTimer packets_;
+  std::deque<double> rangings_;  // ranging packets' times, bursts not yet taken
 };
 
 }  // namespace odoloc::sw
