@@ -77,7 +77,7 @@ void run_sim(const SimCommand& command, std::ostream& out, bool json,
     std::filesystem::create_directories(dir, ec);
     if (ec)
       throw FileError(fmt::format("cannot create {}: {}", dir.string(), ec.message()));
-    log = std::filesystem::absolute(dir / "odoloc.lcmlog");
+    log = dir / "odoloc.lcmlog";
     trajectories_csv = dir / "trajectories.csv";
     fixes_csv = dir / "fixes.csv";
     png = dir / "localisation.png";
