@@ -230,8 +230,7 @@ void Localiser::take_packets(const tof::CaptureBatch& batch, LocaliserStep& out)
 void Localiser::take_ranges(const tof::CycleMeasurement& cycle, LocaliserStep& out) {
   const station::StationConfig& st = *config_.station;
   const tof::BeaconSchedule& schedule = config_.kleeman.schedule;
-  const double c =
-      cycle.speed_of_sound_mps > 0 ? cycle.speed_of_sound_mps : config_.kleeman.speed_of_sound_mps;
+  const double c = cycle.speed_of_sound_mps;
   const double reserved_start = cycle.anchor_s + schedule.beacons * cycle.fire_period_s;
   const double cycle_end = cycle.anchor_s + schedule.cycle_s();
   // Quantisation of the two timestamps (the packet's edge, the arrival's).
