@@ -215,10 +215,10 @@ void Localiser::take_packets(const tof::CaptureBatch& batch, LocaliserStep& out)
     const station::Report& r = p->report;
     switch (r.kind) {
       case station::ReportKind::kStationSawRobot:
-        fuse_station({r.kind, p->time_s, station::station_bearing(st, r.count)}, out);
+        fuse_station({p->time_s, station::station_bearing(st, r.count)}, out);
         break;
       case station::ReportKind::kRobotSawStation:
-        fuse_station({r.kind, p->time_s, station::robot_bearing(st, r.count)}, out);
+        fuse_station({p->time_s, station::robot_bearing(st, r.count)}, out);
         break;
       case station::ReportKind::kRanging:
         rangings_.push_back(p->time_s);
@@ -254,7 +254,7 @@ void Localiser::take_ranges(const tof::CycleMeasurement& cycle, LocaliserStep& o
     range.distance_m = c * (arrival_s - sent_s);  // Liu eq. 14.8
     range.sd_m = std::sqrt(first->sd_m * first->sd_m + st.chain_sd_m * st.chain_sd_m +
                            tick_sd_m * tick_sd_m);
-    fuse_station({station::ReportKind::kRanging, arrival_s, range}, out);
+    fuse_station({arrival_s, range}, out);
   }
 }
 

@@ -5,9 +5,12 @@
 //     (odoloc_lcm_peer), which checks that every message decodes and that
 //     each channel's sequence is complete and in order;
 //   - lcm-logger records what a publisher process sends, and the recorded
-//     log is read back here with lcm::LogFile.
-// Skipped, saying so, where network namespaces are not permitted. Every
-// process runs under a time limit.
+//     log is read back here with lcm::LogFile;
+//   - `odoloc sim` as a user runs it: its log replays into a subscriber
+//     process, a live simulator answers the register bridge.
+// Skipped, saying so, where network namespaces are not permitted; except
+// SimulatorJson, which needs no network (the simulator writes a log).
+// Every process runs under a time limit.
 #include <gtest/gtest.h>
 
 #include <algorithm>

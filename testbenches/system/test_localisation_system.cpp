@@ -36,7 +36,8 @@ sw::fuse::Vector3 error(const sim::Frame& f) {
 }
 
 // The base station's measurements against the truth at their times: the
-// largest error of each kind (rad, rad, m) and how many there were.
+// largest error of each kind (alpha rad, range m, beta rad) and how many
+// there were.
 struct StationCheck {
   std::array<double, 3> worst{};
   std::array<int, 3> count{};
@@ -47,13 +48,15 @@ struct StationCheck {
     const double dx = p.x_m - st.position_m.x(), dy = p.y_m - st.position_m.y();
     const auto wrap = [](double a) { return std::remainder(a, 2 * std::numbers::pi); };
     double e = 0;
+    std::size_t k = 0;
     if (const auto* a = std::get_if<sw::fuse::StationBearing>(&u.measurement))
       e = wrap(a->bearing_rad - std::atan2(dy, dx));
-    else if (const auto* b = std::get_if<sw::fuse::RobotBearing>(&u.measurement))
-      e = wrap(b->bearing_rad - (std::atan2(-dy, -dx) - p.theta_rad));
     else if (const auto* r = std::get_if<sw::fuse::StationRange>(&u.measurement))
-      e = r->distance_m - std::sqrt(dx * dx + dy * dy + st.height_m * st.height_m);
-    const auto k = static_cast<std::size_t>(u.kind);
+      e = r->distance_m - std::sqrt(dx * dx + dy * dy + st.height_m * st.height_m), k = 1;
+    else if (const auto* b = std::get_if<sw::fuse::RobotBearing>(&u.measurement))
+      e = wrap(b->bearing_rad - (std::atan2(-dy, -dx) - p.theta_rad)), k = 2;
+    else
+      ADD_FAILURE() << "not a base-station measurement";
     worst[k] = std::max(worst[k], std::abs(e));
     ++count[k];
   }
@@ -138,7 +141,8 @@ TEST(LocalisationSystem, FusedEstimateBeatsEverySourceOnTheRoomTour) {
   // Liu's base station. A bearing's count is the angle at the hit floored
   // to a step (0.36 degrees): off by half a step at most, plus the robot's
   // motion while a strobe waits for another (1 ms: 0.3 mrad). A range is
-  // off by the turbulence and the capture chain (3 us: 1 mm).
+  // off by the turbulence and the capture chain: 1 to 2 mm mostly, 7.3 mm
+  // at worst on this tour; 1 cm allowed.
   std::printf("%s", sim::update_summary(system.localiser().filter()).c_str());
   const double half_step = std::numbers::pi / 1000;
   std::printf(
@@ -146,9 +150,6 @@ TEST(LocalisationSystem, FusedEstimateBeatsEverySourceOnTheRoomTour) {
       "(worst %.2f mrad) against the truth\n",
       station.count[0], station.worst[0] * 1e3, station.count[1], station.worst[1] * 1e3,
       station.count[2], station.worst[2] * 1e3);
-  static_assert(static_cast<int>(sw::station::ReportKind::kStationSawRobot) == 0 &&
-                static_cast<int>(sw::station::ReportKind::kRanging) == 1 &&
-                static_cast<int>(sw::station::ReportKind::kRobotSawStation) == 2);
   for (const int seen : station.count)
     EXPECT_GE(seen, 20);  // two hits of each laser per 5 s sweep, over 104 s
   EXPECT_LT(station.worst[0], half_step + 1e-3);

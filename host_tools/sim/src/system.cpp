@@ -77,6 +77,18 @@ sw::LocaliserConfig soc_config(const world::RoomTour& tour, const SystemOptions&
   return c;
 }
 
+sw::station::ReportKind kind_of(world::StationReportKind kind) {
+  switch (kind) {
+    case world::StationReportKind::kStationSawRobot:
+      return sw::station::ReportKind::kStationSawRobot;
+    case world::StationReportKind::kRobotSawStation:
+      return sw::station::ReportKind::kRobotSawStation;
+    case world::StationReportKind::kRanging:
+      break;
+  }
+  return sw::station::ReportKind::kRanging;
+}
+
 // The base station's RF packets as the robot's radio hands them over: each
 // one once simulated time has reached its strobe.
 class StationRadio final : public sw::station::Link {
@@ -87,15 +99,7 @@ class StationRadio final : public sw::station::Link {
     if (next_ >= reports_.size() || reports_[next_].strobe_s > now_s_)
       return std::nullopt;
     const world::StationReport& r = reports_[next_++];
-    switch (r.kind) {
-      case world::StationReportKind::kStationSawRobot:
-        return sw::station::Report{sw::station::ReportKind::kStationSawRobot, r.count};
-      case world::StationReportKind::kRobotSawStation:
-        return sw::station::Report{sw::station::ReportKind::kRobotSawStation, r.count};
-      case world::StationReportKind::kRanging:
-        break;
-    }
-    return sw::station::Report{sw::station::ReportKind::kRanging, 0};
+    return sw::station::Report{kind_of(r.kind), r.count};
   }
 
  private:

@@ -105,7 +105,6 @@ struct CycleResult {
 
 // One base-station measurement and what the filter did with it.
 struct StationUpdate {
-  station::ReportKind kind = station::ReportKind::kRanging;
   // Its capture time on the robot clock: the packet's sync edge (bearings)
   // or the burst's arrival at the robot origin (a range).
   double time_s = 0;
