@@ -7,6 +7,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build git
+  ccache  # the compiler cache the build uses when present (docs/development.md)
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libyaml-cpp-dev nlohmann-json3-dev libfmt-dev
   libeigen3-dev  # the beacon solvers and the fusion filter
   clang libclang-rt-14-dev  # libFuzzer for the bounded fuzz runs (ctest label fuzz)
