@@ -18,6 +18,17 @@ set(mutant_dir ${CMAKE_CURRENT_BINARY_DIR}/fast_forward_mutants)
 set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${mutant_list})
 file(STRINGS ${mutant_list} mutant_lines REGEX "^[a-z]")
 
+# Sets `out` to where `needle` occurs in `haystack`; fails with `what`
+# unless it occurs exactly once.
+function(odoloc_find_once haystack needle out what)
+  string(FIND "${haystack}" "${needle}" first)
+  string(FIND "${haystack}" "${needle}" last REVERSE)
+  if(first EQUAL -1 OR NOT first EQUAL last)
+    message(FATAL_ERROR "${what} exactly once (${mutant_list})")
+  endif()
+  set(${out} ${first} PARENT_SCOPE)
+endfunction()
+
 set(mutant_names)
 set(mutant_headers)
 set(index 0)
@@ -36,12 +47,8 @@ foreach(line IN LISTS mutant_lines)
   if(field_count EQUAL 5)
     list(GET fields 4 anchor)
   endif()
-  string(FIND "${anchor}" "${original}" first)
-  string(FIND "${anchor}" "${original}" last REVERSE)
-  if(first EQUAL -1 OR NOT first EQUAL last)
-    message(FATAL_ERROR "fast-forward mutant ${name}: the anchor '${anchor}' must hold "
-                        "'${original}' exactly once (${mutant_list})")
-  endif()
+  odoloc_find_once("${anchor}" "${original}" first
+                   "fast-forward mutant ${name}: the anchor '${anchor}' must hold '${original}'")
   string(LENGTH "${original}" original_length)
   math(EXPR after_original "${first} + ${original_length}")
   string(SUBSTRING "${anchor}" 0 ${first} before)
@@ -70,12 +77,8 @@ foreach(header IN LISTS mutant_headers)
   # so the earlier places stay valid; anchors may not overlap.
   set(places)
   foreach(name IN LISTS mutants_in_${header})
-    string(FIND "${text}" "${mutant_${name}_anchor}" first)
-    string(FIND "${text}" "${mutant_${name}_anchor}" last REVERSE)
-    if(first EQUAL -1 OR NOT first EQUAL last)
-      message(FATAL_ERROR "fast-forward mutant ${name}: '${mutant_${name}_anchor}' must occur "
-                          "exactly once in ${header} (update ${mutant_list})")
-    endif()
+    odoloc_find_once("${text}" "${mutant_${name}_anchor}" first
+                     "fast-forward mutant ${name}: ${header} must hold '${mutant_${name}_anchor}'")
     list(APPEND places "${first}:${name}")
   endforeach()
   list(SORT places COMPARE NATURAL ORDER DESCENDING)
