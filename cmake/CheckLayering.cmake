@@ -10,8 +10,8 @@
 #   host_tools/sweep/   never odoloc/cli/ (the host tool sits on the sweep library)
 #   host_tools/lcm/     never odoloc/rtl/ (transport code does not know the model)
 #   host_tools/plot/    the standard library, fmt, LCM, odoloc/lcm/ and its
-#                       generated odoloc_lcm/, odoloc/process/ and odoloc/plot/
-#                       only: it reads logs, it knows nothing of the model
+#                       generated odoloc_lcm/, odoloc/process/, odoloc/output/
+#                       and odoloc/plot/ only: it reads logs, it knows nothing of the model
 #   host_tools/sim/     never odoloc/cli/ (the host tool's `sim` sits on it)
 #   host_tools/bridge/  never odoloc/rtl/, odoloc/world/, odoloc/board/, odoloc/cli/: the
 #                       register bridge knows LCM, sw::RegisterBus and the register map
@@ -27,7 +27,7 @@
 # targets are checked the same way: odoloc_world links nothing but the
 # warning flags, odoloc_rtl and odoloc_sw link no host-tool target and not
 # each other, odoloc_bridge links neither the model nor the board, odoloc_plot
-# only the LCM layer, odoloc_process and fmt.
+# only the LCM layer, odoloc_process, odoloc_output and fmt.
 cmake_minimum_required(VERSION 3.25)
 
 if(NOT SOURCE_DIR)
@@ -127,8 +127,9 @@ check_layer(host_tools/sweep "the sweep library never includes the host tool"
 check_layer(host_tools/lcm "the LCM message layer never includes the model"
             DENY "^odoloc/rtl/")
 check_layer(host_tools/plot
-            "the plot library includes only the standard library, fmt, LCM, its message layer, odoloc/process/ and odoloc/plot/"
+            "the plot library includes only the standard library, fmt, LCM, its message layer, odoloc/process/, odoloc/output/ and odoloc/plot/"
             ALLOW_STD ALLOW "^odoloc/plot/" "^odoloc/lcm/" "^odoloc_lcm/" "^odoloc/process/"
+                            "^odoloc/output/"
                             "^lcm/" "^fmt/" "^(stdlib|unistd)\\.h$")
 check_layer(host_tools/sim "the simulator never includes the host tool" DENY "^odoloc/cli/")
 check_layer(host_tools/bridge
@@ -191,8 +192,9 @@ if(LINKS_FILE)
               DENY odoloc_sw ${host_tool_targets})
   check_links(odoloc_sw "the SoC software links no model or host-tool target"
               DENY odoloc_rtl ${host_tool_targets})
-  check_links(odoloc_plot "the plot library links only the LCM layer, process, fmt and the warnings"
-              ALLOW odoloc_lcm odoloc_process fmt::fmt odoloc_warnings)
+  check_links(odoloc_plot
+              "the plot library links only the LCM layer, process, output, fmt and the warnings"
+              ALLOW odoloc_lcm odoloc_process odoloc_output fmt::fmt odoloc_warnings)
   check_links(odoloc_bridge "the register bridge links no model, world, board or tool target"
               DENY odoloc_rtl ${host_tool_targets})
 endif()

@@ -10,7 +10,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -18,6 +17,7 @@
 
 #include "odoloc/board/scenario_runner.hpp"
 #include "odoloc/demo/plot.hpp"
+#include "odoloc/output/output_file.hpp"
 #include "odoloc/world/scenarios.hpp"
 
 namespace {
@@ -35,10 +35,12 @@ struct Variant {
 
 constexpr std::uint64_t kRecordEveryClocks = 500'000;  // 10 ms
 
-// Throws std::runtime_error when the file cannot be written completely.
+// Throws output::OutputError when the file cannot be written completely
+// (an output::OutputFile: whole or not at all).
 void write_csv(const std::filesystem::path& file, const std::vector<Variant>& variants,
                const std::vector<RunResult>& results) {
-  std::ofstream out(file);
+  odoloc::output::OutputFile csv(file);
+  std::ostream& out = csv.out();
   out << "time_s,truth_x_m,truth_y_m,truth_theta_rad";
   for (const Variant& v : variants) {
     out << ',' << v.column << "_x_m," << v.column << "_y_m," << v.column << "_error_mm";
@@ -55,9 +57,7 @@ void write_csv(const std::filesystem::path& file, const std::vector<Variant>& va
     }
     out << '\n';
   }
-  out.close();
-  if (!out)
-    throw std::runtime_error("cannot write " + file.string());
+  csv.commit();
 }
 
 // The CSV's columns per variant: x, y, error after the four truth columns.

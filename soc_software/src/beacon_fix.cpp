@@ -160,6 +160,8 @@ std::string_view name(NoFixReason reason) {
       return "mirror_ambiguous";
     case NoFixReason::kInconsistent:
       return "inconsistent";
+    case NoFixReason::kAmbiguousBeaconSets:
+      return "ambiguous_beacon_sets";
   }
   return "?";
 }

@@ -157,8 +157,14 @@ void Localiser::process(CycleResult& cycle) {
     }
     return;
   }
-  if (config_.fuse_beacon_ranges)
-    cycle.fused = ekf_.update(m.anchor_s, motion_compensated(m));
+  if (!config_.fuse_beacon_ranges)
+    return;
+  // Two places explain the cycle: its ranges would pull towards either.
+  if (cycle.fix.reason == locate::NoFixReason::kAmbiguousBeaconSets) {
+    cycle.fused = fuse::Outcome::kAmbiguous;
+    return;
+  }
+  cycle.fused = ekf_.update(m.anchor_s, motion_compensated(m));
 }
 
 void Localiser::initialise_from(const CycleResult& cycle) {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <set>
 #include <stdexcept>
 #include <string>
 
@@ -394,10 +395,24 @@ struct BeaconCandidates {
 constexpr double kRefuted = 1e300;  // the score of a hypothesis a short measurement refutes
 
 // Best consensus over triples of primaries (exhaustive or seeded sample).
+// `rivals` receives every other hypothesis with at least `needed` inliers,
+// one per distinct inlier set: the explanations the best must be the only
+// one of (rival_explains).
 Consensus find_consensus(const Model& model, const std::vector<BeaconCandidates>& beacons,
-                         const MultilaterationOptions& options, bool& any_geometry,
-                         bool& any_inside) {
+                         const MultilaterationOptions& options, std::size_t needed,
+                         std::vector<Consensus>& rivals, bool& any_geometry, bool& any_inside) {
   Consensus best;
+  std::set<std::vector<std::pair<int, int>>> seen;
+  const auto keep_rival = [&](const Consensus& c) {
+    if (c.inliers.size() < needed)
+      return;
+    std::vector<std::pair<int, int>> members;
+    for (const Observation& o : c.inliers)
+      members.emplace_back(o.beacon, o.candidate);
+    std::ranges::sort(members);
+    if (seen.insert(std::move(members)).second)
+      rivals.push_back(c);
+  };
   const std::size_t n = beacons.size();
   const auto score_hypothesis = [&](const State& s) {
     Consensus c{s, {}, 0};
@@ -450,6 +465,7 @@ Consensus find_consensus(const Model& model, const std::vector<BeaconCandidates>
         continue;
       any_inside = true;
       Consensus c = score_hypothesis({t.position_m, t.offset_m, model.k_prior});
+      keep_rival(c);
       // Equal scores (the two roots of a lone triple): the one nearer the prior.
       const bool nearer =
           options.prior_position_m && distance(c.state.p, *options.prior_position_m) <
@@ -552,6 +568,48 @@ bool consistent(const Fix& fix, const Model& model, std::span<const Observation>
   return true;
 }
 
+// The place of a rival explanation of the cycle, if there is one: another
+// consensus whose own members, fitted alone, pass the same tests as the
+// fix's (converged, chi-square within the residual gate, no trusted primary
+// refuting it by being short, inside the hull) at a place the two
+// covariances cannot reconcile (squared Mahalanobis distance of the
+// difference beyond the 2-dof quantile of the residual gate). Different
+// triples of one set refit to the same place and are no rivals.
+std::optional<Vec2> rival_explains(const Fix& fix, const Model& model,
+                                   const std::vector<Consensus>& rivals,
+                                   const std::vector<BeaconCandidates>& candidates,
+                                   const MultilaterationOptions& options) {
+  const double apart = chi2_quantile(2, options.residual_gate_sigmas);
+  for (const Consensus& rival : rivals) {
+    const FitResult fit = gauss_newton(model, rival.inliers, rival.state, options);
+    if (fit.singular || !fit.converged)
+      continue;
+    const std::optional<StateMatrix> covariance = state_covariance(model, rival.inliers, fit.state);
+    if (!covariance)
+      continue;
+    const int dof = static_cast<int>(rival.inliers.size()) - model.dimension();
+    if (dof >= 1 &&
+        cost(model, rival.inliers, fit.state) > chi2_quantile(dof, options.residual_gate_sigmas))
+      continue;
+    if (model.hull->distance_outside_m(fit.state.p) > options.max_outside_hull_m)
+      continue;
+    const bool refuted = std::ranges::any_of(candidates, [&](const BeaconCandidates& bc) {
+      const Observation& primary = bc.options.front();
+      const double threshold =
+          options.inlier_sigmas * primary.sd_m + options.inlier_floor_m + model.consensus_slack_m;
+      return !primary.suspect && residual(model, primary, fit.state) < -threshold;
+    });
+    if (refuted)
+      continue;
+    const Eigen::Vector2d difference(fit.state.p.x - fix.position_m.x,
+                                     fit.state.p.y - fix.position_m.y);
+    const Eigen::Matrix2d joint = fix.covariance_m2 + covariance->topLeftCorner<2, 2>();
+    if (difference.dot(joint.ldlt().solve(difference)) > apart)
+      return fit.state.p;
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 namespace {
@@ -608,18 +666,20 @@ Fix multilaterate_unsettled(const BeaconLayout& layout, const RangeSet& ranges,
 
   // Start point and the measurements to fit.
   std::vector<Observation> used;
+  std::vector<Consensus> rivals;
   State start;
   bool any_geometry = false;
   bool any_inside = false;
   if (options.robust || prepared.primaries.size() == 3) {
-    Consensus consensus = find_consensus(model, candidates, options, any_geometry, any_inside);
+    // A lone triple always agrees with itself: with more beacons usable, a
+    // consensus needs one that checks it.
+    const std::size_t needed = prepared.primaries.size() > 3 ? 4 : 3;
+    Consensus consensus =
+        find_consensus(model, candidates, options, needed, rivals, any_geometry, any_inside);
     if (!any_geometry || !any_inside) {
       fix.reason = any_geometry ? NoFixReason::kOutsideHull : NoFixReason::kDegenerateGeometry;
       return fix;
     }
-    // A lone triple always agrees with itself: with more beacons usable, a
-    // consensus needs one that checks it.
-    const std::size_t needed = prepared.primaries.size() > 3 ? 4 : 3;
     if (consensus.inliers.size() < needed) {
       fix.reason = NoFixReason::kInconsistent;
       return fix;
@@ -751,6 +811,13 @@ Fix multilaterate_unsettled(const BeaconLayout& layout, const RangeSet& ranges,
         fix.reason = NoFixReason::kMirrorAmbiguous;
         return fix;
       }
+    }
+  }
+  if (used.size() > 3) {
+    if (const std::optional<Vec2> rival = rival_explains(fix, model, rivals, candidates, options)) {
+      fix.mirror_m = rival;
+      fix.reason = NoFixReason::kAmbiguousBeaconSets;
+      return fix;
     }
   }
   fix.valid = true;

@@ -141,6 +141,8 @@ std::string_view name(Outcome outcome) {
       return "not_initialised";
     case Outcome::kDegenerate:
       return "degenerate";
+    case Outcome::kAmbiguous:
+      return "ambiguous";
   }
   return "?";
 }

@@ -29,6 +29,7 @@
 #include "odoloc/lcm/connection.hpp"
 #include "odoloc/plot/log_plot.hpp"
 #include "odoloc/plot/log_series.hpp"
+#include "odoloc/process/run_program.hpp"
 #include "odoloc_lcm/beacon_fix_t.hpp"
 #include "odoloc_lcm/pose_estimate_t.hpp"
 #include "odoloc_lcm/sim_status_t.hpp"
@@ -387,6 +388,43 @@ TEST(PlotLogWithoutTruth, DrawsTheTrajectoriesAlone) {
   }
 }
 
+// LCM has no authentication: any local publisher can plant a source name
+// in a recorded log. Names that gnuplot would run (backquotes, a quote and
+// a line break, a macro) and terminal escapes are data: drawn as text,
+// shown escaped in the summary, and nothing runs (the marker is absolute:
+// gnuplot runs in a staging folder).
+TEST(PlotHostileLog, SourceNamesAreDataForGnuplotAndTheTerminal) {
+  const fs::path dir = odoloc::tb::fresh_dir("odoloc_plot", "hostile");
+  const std::string touch = "touch " + (dir / "X").string();
+  const std::vector<std::string> names = {"fused`" + touch + "`", "o'\nsystem('" + touch + "')#",
+                                          "@m $x;`" + touch + "`\xff", "\x1b[2J\x1b]0;t\x07"};
+  {
+    odoloc::lcm::Connection log("file://" + (dir / "planted.lcmlog").string() + "?mode=w");
+    for (int i = 0; i < 20; ++i) {
+      log.publish(channel::kTruth, truth_at(i * kTick));
+      for (std::size_t n = 0; n < names.size(); ++n) {
+        const odoloc_lcm::pose_estimate_t t = truth_at(i * kTick);
+        log.publish(channel::kPose, pose(names[n].c_str(), i * kTick,
+                                         t.x + 0.01 * static_cast<double>(n), t.y, t.theta));
+      }
+    }
+  }
+  const plot::LogSeries s = plot::read_log(dir / "planted.lcmlog");
+  ASSERT_EQ(s.sources.size(), names.size());
+  const std::string summary = plot::summary_text(s);
+  EXPECT_EQ(summary.find('\x1b'), std::string::npos) << "an escape reached the terminal";
+  EXPECT_NE(summary.find("\\x1b[2J"), std::string::npos) << summary;
+  (void)plot::draw(s, {.png = dir / "planted.png", .keep_script = true});
+  EXPECT_EQ(odoloc::tb::png_size(dir / "planted.png").width,
+            static_cast<std::uint32_t>(plot::kPlotWidth));
+  EXPECT_FALSE(fs::exists(dir / "X")) << "a source name ran as a command";
+  // The kept script, run again by a user in the folder, runs nothing either.
+  const odoloc::process::ProgramResult again =
+      odoloc::process::run_program("gnuplot", {"planted.gp"}, dir);
+  EXPECT_TRUE(again.ok()) << again.message;
+  EXPECT_FALSE(fs::exists(dir / "X"));
+}
+
 TEST(PlotErrors, HeadingTakesTheShorterWayRoundAndTimesOutsideTheTruthGetNone) {
   std::vector<plot::Sample> truth(2);
   truth[0] = {.utime = 100, .x_m = 0, .y_m = 0, .theta_rad = pi - 0.1};
@@ -596,8 +634,8 @@ TEST_F(PlotLog, BadInputIsAUsageErrorNamingTheFile) {
       {{"plot", log_->string(), "--out", log_->string()},
        "odoloc: the picture " + log_->string() + " would replace the log itself\n"},
       {{"plot", log_->string(), "--out", (*dir_ / "nowhere" / "x.png").string()},
-       "odoloc: cannot write the picture " + (*dir_ / "nowhere" / "x.png").string() +
-           ": the folder " + (*dir_ / "nowhere").string() + " does not exist\n"},
+       "odoloc: cannot write " + (*dir_ / "nowhere" / "x.png").string() + ": the folder " +
+           (*dir_ / "nowhere").string() + " does not exist\n"},
       {{"plot", log_->string(), "--ellipse-every", "0"},
        "odoloc: --ellipse-every: '0' is not a positive number of seconds\n"},
       {{"plot", log_->string(), "--target", "sim"},

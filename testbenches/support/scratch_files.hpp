@@ -3,13 +3,16 @@
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace odoloc::tb {
 
@@ -29,6 +32,22 @@ inline std::string slurp(const std::filesystem::path& path) {
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+// True when `path` itself (not what a link names) is of `kind` (S_IFREG,
+// S_IFLNK, S_IFIFO, S_IFCHR, ...).
+inline bool is_kind(const std::filesystem::path& path, mode_t kind) {
+  struct stat st {};
+  return ::lstat(path.c_str(), &st) == 0 && (st.st_mode & S_IFMT) == kind;
+}
+
+// The names in a folder, sorted: to show that nothing else was left there.
+inline std::vector<std::string> entries(const std::filesystem::path& dir) {
+  std::vector<std::string> names;
+  for (const std::filesystem::directory_entry& e : std::filesystem::directory_iterator(dir))
+    names.push_back(e.path().filename().string());
+  std::ranges::sort(names);
+  return names;
 }
 
 }  // namespace odoloc::tb

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "beacon_geometry.hpp"
+#include "child_process.hpp"
 #include "enum_name.hpp"
 #include "odoloc/board/sim_target.hpp"
 #include "odoloc/cli/locate.hpp"
@@ -33,8 +34,6 @@
 #include "png_size.hpp"
 #include "vcd_check.hpp"
 
-extern char** environ;
-
 namespace {
 
 namespace regs = odoloc::regs;
@@ -43,91 +42,11 @@ using nlohmann::json;
 // A scenario of SimTarget in which the robot drives, so the wheels turn.
 constexpr const char* kDrivingScenario = "straight";
 
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-// A child process with its standard streams in files.
-struct Child {
-  pid_t pid = -1;
-  std::string in_path, out_path, err_path;
-  bool own_out = true;  // out_path is the test's file (not e.g. /dev/full)
-};
-
-Child spawn(const std::string& program, const std::vector<std::string>& args,
-            const std::string& input, const std::string& stdout_path = {}) {
-  static int serial = 0;
-  const std::string base =
-      fmt::format("{}odoloc_e2e_{}_{}", ::testing::TempDir(), ::getpid(), ++serial);
-  Child c{-1, base + ".in", stdout_path.empty() ? base + ".out" : stdout_path, base + ".err",
-          stdout_path.empty()};
-  std::ofstream(c.in_path) << input;
-
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 0, c.in_path.c_str(), O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 1, c.out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
-                                   0600);
-  posix_spawn_file_actions_addopen(&actions, 2, c.err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
-                                   0600);
-  std::vector<std::string> argv_strings{program};
-  argv_strings.insert(argv_strings.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (std::string& a : argv_strings)
-    argv.push_back(a.data());
-  argv.push_back(nullptr);
-  const int spawned =
-      posix_spawnp(&c.pid, program.c_str(), &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (spawned != 0) {
-    ADD_FAILURE() << "cannot run " << program << ": " << std::strerror(spawned);
-    c.pid = -1;
-  }
-  return c;
-}
-
-// Waits for the child, killing it after `timeout` (a test failure).
-Result finish(const Child& c, std::chrono::milliseconds timeout = std::chrono::seconds{120}) {
-  Result r;
-  if (c.pid < 0)
-    return r;
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  int status = 0;
-  for (;;) {
-    const pid_t done = waitpid(c.pid, &status, WNOHANG);
-    if (done == c.pid)
-      break;
-    if (done < 0 && errno != EINTR) {
-      ADD_FAILURE() << "waitpid: " << std::strerror(errno);
-      return r;
-    }
-    if (std::chrono::steady_clock::now() > deadline) {
-      ADD_FAILURE() << "still running after " << timeout.count() << " ms: killed";
-      ::kill(c.pid, SIGKILL);
-      while (waitpid(c.pid, &status, 0) < 0 && errno == EINTR) {
-      }
-      break;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds{5});
-  }
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  if (c.own_out) {
-    r.out = slurp(c.out_path);
-    std::remove(c.out_path.c_str());
-  }
-  r.err = slurp(c.err_path);
-  for (const std::string& p : {c.in_path, c.err_path})
-    std::remove(p.c_str());
-  return r;
-}
+using Result = odoloc::tb::ChildResult;
+using odoloc::tb::Child;
+using odoloc::tb::finish;
+using odoloc::tb::slurp;
+using odoloc::tb::spawn;
 
 // Runs the tool with `args`, `input` on its standard input.
 Result run(const std::vector<std::string>& args, const std::string& input = {}) {
@@ -983,14 +902,16 @@ TEST(CliE2eLocate, ThePlotIsAPictureGnuplotDrew) {
   std::remove(png.c_str());
   std::remove(svg.c_str());
 
-  // A picture that cannot be written: the fixes are printed, then exit 1.
+  // A picture that cannot be written: the fixes are printed, then exit 2,
+  // before gnuplot runs.
   std::vector<std::string> args = lc.args(lc.arrivals_file);
   args.insert(args.end(), {"--plot", "/nonexistent/fixes.png"});
   const Result r = run(args);
-  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(r.code, 2);
   EXPECT_EQ(lines(r.out), lc.truth.size() + 1);
-  EXPECT_TRUE(r.err.starts_with("odoloc: --plot: gnuplot did not write /nonexistent/fixes.png"))
-      << r.err;
+  EXPECT_EQ(r.err,
+            "odoloc: --plot: cannot write /nonexistent/fixes.png: the folder /nonexistent does "
+            "not exist\n");
   EXPECT_EQ(lines(r.err), 1U) << r.err;
 }
 

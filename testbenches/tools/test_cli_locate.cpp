@@ -124,6 +124,11 @@ TEST(LocateLayout, EveryMistakeNamesTheFileTheLineAndTheKey) {
        "layout.yaml:4: beacon 'A' given twice (first on line 2)"},
       {"beacons:\n" + three + "  - {id: C, x: 1.0005, y: 0}\n",
        "layout.yaml:4: beacon 'C' is at the place of beacon 'B' (line 3): closer than 1 mm"},
+      // A second document (yaml-cpp alone would read the first and drop it).
+      {"beacons:\n" + three + "  - {id: C, x: 1, y: 1}\n---\nbeacons: []\n",
+       "layout.yaml:5: YAML: a second document ('---' or '...')"},
+      {"beacons:\n" + three + "  - {id: C, x: 1, y: 1}\n...\ntemperature: 40\n",
+       "layout.yaml:6: YAML: a second document ('---' or '...')"},
       {"beacons:\n" + three + "  - {id: \"C\\x01\", x: 1, y: 1}\n",
        "layout.yaml:4: beacons[2]: id 'C\\x01': ids are letters, digits, '_', '-' and '.'"},
   };
@@ -543,7 +548,10 @@ TEST(LocateOutput, ThePlotScriptPicksTheTerminalAndMagnifiesTheEllipses) {
   const std::vector<cli::CycleFix> fixes = {sample_fix()};
   const std::string png = cli::plot_script(fixes, l, "it's.png");
   EXPECT_NE(png.find("set terminal pngcairo noenhanced size 1000,800"), std::string::npos) << png;
-  EXPECT_NE(png.find("set output 'it''s.png'"), std::string::npos) << png;
+  // The output, a gnuplot string constant: the default of `picture`.
+  EXPECT_NE(png.find("if (!exists(\"picture\")) picture = 'it''s.png'\nset output picture\n"),
+            std::string::npos)
+      << png;
   EXPECT_NE(png.find("\"B5\""), std::string::npos) << png;
   // 2 sigma of the major axis is 4.5 mm: magnified 100x in a 5 m room.
   EXPECT_NE(png.find("title '2-sigma error ellipses, magnified 100x'"), std::string::npos) << png;

@@ -794,6 +794,8 @@ TEST(RegisterMapGenerator, RejectsInconsistentDescriptions) {
           "      - {name: r, offset: 0, access: rw, hw: r, fields: [{name: f, bits: [0, 0]}]}\n"),
       "duplicate instance");
   expect_rejected("map: [unterminated", "YAML");
+  expect_rejected(description(kGoodBlock) + "---\nmap: {}\n", "a second document");
+  expect_rejected(description(kGoodBlock) + "...\nextra: 1\n", "a second document");
   expect_rejected(description("  - name: A\n    base: 0\n    registers: []\n"), "lower_snake_case");
   expect_rejected(
       description("  - name: a\n    base: 0\n    registers:\n"

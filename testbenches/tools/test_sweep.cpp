@@ -237,6 +237,10 @@ TEST(SweepSpec, MistakesNameTheFileLineAndKey) {
       {"- a list\n",
        "spec.yaml:1: a spec is a YAML mapping of name, experiment, seed, trials or grid"},
       {"", "spec.yaml: a spec is a YAML mapping of name, experiment, seed, trials or grid"},
+      {head + "grid: {policy: rear_only}\n---\ntrials: 3\n",
+       "spec.yaml:6: YAML: a second document ('---' or '...')"},
+      {head + "grid: {policy: rear_only}\n...\n# a comment is no document\ntrials: 3\n",
+       "spec.yaml:8: YAML: a second document ('---' or '...')"},
   };
   for (const auto& [yaml, message] : cases)
     EXPECT_EQ(spec_error(yaml), message) << yaml;
@@ -563,8 +567,9 @@ TEST(SweepOutputs, NoPartialFileIsLeftBehind) {
     ADD_FAILURE() << "wrote into a missing folder";
   } catch (const sweep::SweepError& e) {
     EXPECT_TRUE(e.usage());
-    EXPECT_EQ(std::string{e.what()}, fmt::format("cannot write {}: No such file or directory",
-                                                 (dir / "missing" / "s.jsonl").string()));
+    EXPECT_EQ(std::string{e.what()},
+              fmt::format("cannot write {}: the folder {} does not exist",
+                          (dir / "missing" / "s.jsonl").string(), (dir / "missing").string()));
   }
   int calls = 0;
   EXPECT_THROW((void)sweep::run_shard(spec, {1, 1}, dir / "s.jsonl",
@@ -613,8 +618,8 @@ TEST(SweepCli, ExitCodesAndMessages) {
       {{"sweep", "run", spec, "--shard", "x", "--out", out},
        "odoloc: --shard: 'x': expected K/N, shard K of N (e.g. 2/4)\n"},
       {{"sweep", "run", spec, "--out", (dir / "none" / "s.jsonl").string()},
-       fmt::format("odoloc: cannot write {}: No such file or directory\n",
-                   (dir / "none" / "s.jsonl").string())},
+       fmt::format("odoloc: cannot write {}: the folder {} does not exist\n",
+                   (dir / "none" / "s.jsonl").string(), (dir / "none").string())},
       {{"sweep", "run", (dir / "absent.yaml").string(), "--out", out},
        fmt::format("odoloc: cannot read spec {}\n", (dir / "absent.yaml").string())},
       {{"sweep", "run", spec, "--out", out, "--target", "sim"},

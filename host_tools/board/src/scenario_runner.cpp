@@ -118,7 +118,8 @@ RunResult run_scenario(const world::Scenario& scenario, const RunOptions& option
       options.max_seconds > 0
           ? static_cast<std::uint64_t>(std::ceil(options.max_seconds * sw::kFabricClockHz))
           : std::numeric_limits<std::uint64_t>::max();
-  while (!truth.done() && result.clocks < end_clock) {
+  const auto stopped = [&] { return options.stop != nullptr && options.stop->load(); };
+  while (!truth.done() && result.clocks < end_clock && !stopped()) {
     drive_encoder_pins(in.pins, truth.tick());
     run(1);
     // The ticks that repeat these levels, at once.

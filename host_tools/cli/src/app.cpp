@@ -14,6 +14,8 @@
 
 #include "odoloc/cli/commands.hpp"
 #include "odoloc/cli/errors.hpp"
+#include "odoloc/output/output_file.hpp"
+#include "odoloc/output/printable.hpp"
 #include "odoloc/sw/register_bus.hpp"
 
 namespace odoloc::cli {
@@ -32,27 +34,37 @@ struct ScriptStep {
   Invocation invocation;
 };
 
+// Messages quote file names, file contents, log and network text: shown
+// printable (no control sequence reaches the terminal) and on one line.
 int report(const Io& io, std::string_view where, std::string_view message, int code) {
-  io.err << "odoloc: " << where << message << '\n' << std::flush;
+  io.err << "odoloc: " << output::printable(where) << output::printable(message) << '\n'
+         << std::flush;
   return code;
 }
 
 // Runs `body`, mapping its exceptions to exit codes and one-line messages.
+// Once `stop` is set any error is the interruption's (a FIFO's open or a
+// read that the signal ended): exit kExitInterrupted, no message.
 template <class F>
-int guarded(const Io& io, std::string_view where, F&& body) {
+int guarded(const Io& io, std::string_view where, const std::atomic<bool>* stop, F&& body) {
+  const auto failed = [&](std::string_view message, int code) {
+    return stop != nullptr && stop->load() ? kExitInterrupted : report(io, where, message, code);
+  };
   try {
     body();
     return kExitOk;
   } catch (const Interrupted&) {
-    return kExitInterrupted;  // Ctrl-C: the shell's convention, no message
+    return kExitInterrupted;  // a signal: the shell's convention, no message
   } catch (const FileError& e) {
-    return report(io, where, e.what(), kExitBus);
+    return failed(e.what(), kExitBus);
   } catch (const UsageError& e) {
-    return report(io, where, e.what(), kExitUsage);
+    return failed(e.what(), kExitUsage);
+  } catch (const output::OutputError& e) {
+    return failed(e.what(), e.usage() ? kExitUsage : kExitBus);
   } catch (const sw::BusError& e) {
-    return report(io, where, fmt::format("bus error: {}", e.what()), kExitBus);
+    return failed(fmt::format("bus error: {}", e.what()), kExitBus);
   } catch (const std::exception& e) {
-    return report(io, where, e.what(), kExitBus);
+    return failed(e.what(), kExitBus);
   }
 }
 
@@ -92,7 +104,7 @@ int run_script(const Invocation& outer, const ScriptCommand& cmd, const Io& io,
                const TargetOpener& open, const std::atomic<bool>* stop) {
   const std::string name = cmd.file == "-" ? "<stdin>" : cmd.file;
   std::vector<ScriptStep> steps;
-  int code = guarded(io, "", [&] {
+  int code = guarded(io, "", stop, [&] {
     const SimulatedLimit limit = simulated_limit(outer.cycle_step);
     const SimulatedLimit* simulated = is_sim_spec(outer.target) ? &limit : nullptr;
     if (cmd.file == "-") {
@@ -115,7 +127,7 @@ int run_script(const Invocation& outer, const ScriptCommand& cmd, const Io& io,
     return s.invocation.help.empty() && needs_target(s.invocation.command);
   });
   if (any_target) {
-    code = guarded(io, "", [&] { target = open(outer.target, options_of(outer, stop)); });
+    code = guarded(io, "", stop, [&] { target = open(outer.target, options_of(outer, stop)); });
     if (code != kExitOk)
       return code;
   }
@@ -126,7 +138,7 @@ int run_script(const Invocation& outer, const ScriptCommand& cmd, const Io& io,
       io.out << step.invocation.help;
       continue;
     }
-    code = guarded(io, fmt::format("{}:{}: ", name, step.line), [&] {
+    code = guarded(io, fmt::format("{}:{}: ", name, step.line), stop, [&] {
       execute(step.invocation.command, target.get(), io.out, outer.json || step.invocation.json,
               stop);
     });
@@ -134,7 +146,7 @@ int run_script(const Invocation& outer, const ScriptCommand& cmd, const Io& io,
       break;
   }
   if (target) {
-    const int closed = guarded(io, "", [&] { target->finish(); });
+    const int closed = guarded(io, "", stop, [&] { target->finish(); });
     if (code == kExitOk)
       code = closed;
   }
@@ -156,7 +168,7 @@ int check_output(const Io& io, int code) {
 int run_cli(std::span<const std::string> args, const Io& io, const TargetOpener& open,
             const std::atomic<bool>* stop) {
   Invocation inv;
-  int code = guarded(io, "", [&] {
+  int code = guarded(io, "", stop, [&] {
     inv = parse_invocation(args);
     check_target_spec(inv.target);
     if (inv.help.empty() && is_sim_spec(inv.target))
@@ -171,13 +183,13 @@ int run_cli(std::span<const std::string> args, const Io& io, const TargetOpener&
   if (const auto* script = std::get_if<ScriptCommand>(&inv.command))
     return check_output(io, run_script(inv, *script, io, open, stop));
   std::unique_ptr<Target> target;
-  code = guarded(io, "", [&] {
+  code = guarded(io, "", stop, [&] {
     if (needs_target(inv.command))
       target = open(inv.target, options_of(inv, stop));
     execute(inv.command, target.get(), io.out, inv.json, stop);
   });
   if (target) {
-    const int closed = guarded(io, "", [&] { target->finish(); });
+    const int closed = guarded(io, "", stop, [&] { target->finish(); });
     if (code == kExitOk)
       code = closed;
   }

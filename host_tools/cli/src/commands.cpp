@@ -178,7 +178,7 @@ Target& need(Target* target) {
 }
 
 void emit(std::ostream& out, const nlohmann::json& doc) {
-  out << doc.dump() << '\n' << std::flush;
+  out << json_line(doc) << '\n' << std::flush;
 }
 
 void run_list(const ListCommand& cmd, std::ostream& out, bool json) {
@@ -710,16 +710,16 @@ Invocation parse_invocation(std::span<const std::string> args) {
       sim_command.laps = parse_count(sim_laps);
     if (!sim_seed.empty())
       sim_command.seed = parse_count(sim_seed);
-    const auto real = [](const std::string& text, std::string_view option, double& to) {
-      if (text.empty())
-        return;
+    const auto real = [](const std::string& text, std::string_view option) {
       const std::optional<double> value = parse_real(text);
       if (!value)
         throw UsageError(fmt::format("{}: '{}' is not a number", option, text));
-      to = *value;
+      return *value;
     };
-    real(sim_speed, "--speed", sim_command.speed_mps);
-    real(sim_duration, "--duration", sim_command.duration_s);
+    if (!sim_speed.empty())
+      sim_command.speed_mps = real(sim_speed, "--speed");
+    if (!sim_duration.empty())
+      sim_command.duration_s = real(sim_duration, "--duration");
     inv.command = std::move(sim_command);
   } else if (plot->parsed()) {
     refuse_board_options("plot", "reads a log file");
@@ -795,11 +795,11 @@ void execute(const Command& command, Target* target, std::ostream& out, bool jso
           [&](const WatchCommand& c) { run_watch(c, need(target), out, json, stop); },
           [&](const WaitCommand& c) { run_wait(c, need(target), out, json, stop); },
           [&](const ScriptCommand&) { throw UsageError("a script cannot run another script"); },
-          [&](const LocateCommand& c) { run_locate(c, out, json); },
-          [&](const ExportHlsCommand& c) { run_export_hls(c, out, json); },
+          [&](const LocateCommand& c) { run_locate(c, out, json, stop); },
+          [&](const ExportHlsCommand& c) { run_export_hls(c, out, json, stop); },
           [&](const SweepRunCommand& c) { run_sweep_run(c, out, json, stop); },
-          [&](const SweepMergeCommand& c) { run_sweep_merge(c, out, json); },
-          [&](const PlotCommand& c) { run_plot(c, out, json); },
+          [&](const SweepMergeCommand& c) { run_sweep_merge(c, out, json, stop); },
+          [&](const PlotCommand& c) { run_plot(c, out, json, stop); },
           [&](const WatchPoseCommand& c) { run_watch_pose(c, out, json, stop); },
           [&](const SimCommand& c) { run_sim(c, out, json, stop); },
       },

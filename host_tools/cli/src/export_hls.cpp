@@ -6,7 +6,9 @@
 #include <ostream>
 
 #include "odoloc/cli/errors.hpp"
+#include "odoloc/cli/format.hpp"
 #include "odoloc/hls_export/reference.hpp"
+#include "odoloc/output/printable.hpp"
 
 namespace odoloc::cli {
 
@@ -18,20 +20,21 @@ hls_export::HlsTool parse_hls_tool(const std::string& name) {
   return *tool;
 }
 
-void run_export_hls(const ExportHlsCommand& command, std::ostream& out, bool json) {
-  const std::vector<hls_export::ExportedTree> trees =
-      translated<hls_export::ExportError>([&] { return hls_export::export_hls(command.request); });
+void run_export_hls(const ExportHlsCommand& command, std::ostream& out, bool json,
+                    const std::atomic<bool>* stop) {
+  const std::vector<hls_export::ExportedTree> trees = translated<hls_export::ExportError>(
+      [&] { return hls_export::export_hls(command.request, stop); });
   for (const hls_export::ExportedTree& tree : trees) {
     if (json) {
-      out << nlohmann::json{{"kernel", tree.kernel},
-                            {"folder", tree.folder.string()},
-                            {"files", tree.files},
-                            {"golden_calls", tree.golden_calls}}
-                 .dump()
+      out << json_line(nlohmann::json{{"kernel", tree.kernel},
+                                      {"folder", tree.folder.string()},
+                                      {"files", tree.files},
+                                      {"golden_calls", tree.golden_calls}})
           << '\n';
     } else {
-      out << fmt::format("{}: {} ({}, {} golden calls)\n", tree.kernel, tree.folder.string(),
-                         fmt::join(tree.files, " "), tree.golden_calls);
+      out << fmt::format("{}: {} ({}, {} golden calls)\n", tree.kernel,
+                         output::printable(tree.folder.string()), fmt::join(tree.files, " "),
+                         tree.golden_calls);
     }
   }
 }

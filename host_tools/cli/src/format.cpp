@@ -5,6 +5,11 @@
 #include <algorithm>
 
 namespace odoloc::cli {
+
+std::string json_line(const nlohmann::json& doc) {
+  return doc.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
 namespace {
 
 const regs::Enumerator* enumerator(const regs::Field& f, std::uint32_t raw) {

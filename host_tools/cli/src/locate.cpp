@@ -1,8 +1,6 @@
 #include "odoloc/cli/locate.hpp"
 
 #include <fmt/format.h>
-#include <stdlib.h>  // mkstemp
-#include <unistd.h>  // close
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -15,7 +13,9 @@
 #include <ostream>
 
 #include "odoloc/cli/errors.hpp"
-#include "odoloc/process/run_program.hpp"
+#include "odoloc/cli/format.hpp"
+#include "odoloc/output/output_file.hpp"
+#include "odoloc/process/gnuplot.hpp"
 #include "odoloc/sw/kleeman_solver.hpp"
 #include "odoloc/sw/multilateration.hpp"
 
@@ -188,42 +188,25 @@ PlotData plot_data(std::span<const CycleFix> fixes, const LocateLayout& layout) 
   return out;
 }
 
-// gnuplot's message on one line: its lines trimmed and joined, without the
-// caret line that points into the echoed command.
-std::string one_line(std::string_view message) {
-  std::string out;
-  for (const std::string_view line : split_fields(message, '\n')) {
-    if (line.find_first_not_of(" ^") == std::string_view::npos)
-      continue;
-    out += (out.empty() ? "" : "; ") + std::string{line};
+void plot(std::span<const CycleFix> fixes, const LocateLayout& layout, const std::string& output,
+          const std::atomic<bool>* stop) {
+  process::ProgramResult result;
+  try {
+    result = process::draw_with_gnuplot(plot_script(fixes, layout, output), output, {}, stop);
+  } catch (const output::OutputError& e) {
+    if (e.usage())
+      throw UsageError(fmt::format("--plot: {}", e.what()));
+    throw FileError(fmt::format("--plot: {}", e.what()));
   }
-  return out;
-}
-
-void plot(std::span<const CycleFix> fixes, const LocateLayout& layout, const std::string& output) {
-  std::string script_path = (fs::temp_directory_path() / "odoloc-locate-XXXXXX").string();
-  const int fd = ::mkstemp(script_path.data());
-  if (fd < 0)
-    throw FileError(fmt::format("--plot: cannot create a temporary gnuplot script in {}",
-                                fs::temp_directory_path().string()));
-  ::close(fd);
-  std::ofstream script(script_path);
-  script << plot_script(fixes, layout, output);
-  script.close();
-  std::error_code ec;
-  if (!script) {
-    fs::remove(script_path, ec);
-    throw FileError(fmt::format("--plot: cannot write the gnuplot script {}", script_path));
-  }
-  // gnuplot exits 1 when it cannot open the output, as for any error.
-  const process::ProgramResult result = process::run_program("gnuplot", {script_path}, ".");
-  fs::remove(script_path, ec);
+  if (result.interrupted)
+    throw Interrupted();
   if (!result.launched)
     throw FileError(
         fmt::format("--plot: cannot run gnuplot (install gnuplot-nox): {}", result.message));
+  // gnuplot exits 1 when it cannot draw, as for any error.
   if (!result.ok())
-    throw FileError(
-        fmt::format("--plot: gnuplot did not write {}: {}", output, one_line(result.message)));
+    throw FileError(fmt::format("--plot: gnuplot did not draw {}: {}", output,
+                                process::one_line(result.message)));
 }
 
 }  // namespace
@@ -273,7 +256,7 @@ void check_locate(const LocateCommand& command) {
 }
 
 std::vector<CycleFix> locate_fixes(const LocateLayout& layout, std::span<const ArrivalCycle> cycles,
-                                   const LocateCommand& command) {
+                                   const LocateCommand& command, const std::atomic<bool>* stop) {
   const std::optional<double> temperature =
       command.temperature_c ? command.temperature_c : layout.temperature_c;
   std::optional<loc::Triple> triple;
@@ -292,6 +275,8 @@ std::vector<CycleFix> locate_fixes(const LocateLayout& layout, std::span<const A
   std::optional<loc::Vec2> last;  // the previous valid fix
   std::vector<CycleFix> out;
   for (const ArrivalCycle& c : cycles) {
+    if (stop != nullptr && stop->load())
+      throw Interrupted();
     CycleFix f{c.cycle, {}};
     if (command.solver == LocateSolver::kGaussNewton) {
       loc::MultilaterationOptions options;
@@ -404,22 +389,20 @@ ErrorEllipse error_ellipse(const Eigen::Matrix2d& covariance_m2, double sigmas) 
 std::string plot_script(std::span<const CycleFix> fixes, const LocateLayout& layout,
                         const std::string& output) {
   const bool svg = fs::path(output).extension() == ".svg";
-  std::string quoted = output;  // a gnuplot single-quoted string doubles its quotes
-  for (std::size_t at = quoted.find('\''); at != std::string::npos; at = quoted.find('\'', at + 2))
-    quoted.insert(at, 1, '\'');
   const PlotData data = plot_data(fixes, layout);
   const auto valid = std::ranges::count_if(fixes, [](const CycleFix& f) { return f.fix.valid; });
   const std::string_view solver = fixes.empty() ? "" : loc::name(fixes.front().fix.solver);
   std::string script = fmt::format(
-      "set terminal {} noenhanced size {},{} font 'sans,10'\nset output '{}'\n{}"
+      "set terminal {} noenhanced size {},{} font 'sans,10'\n{}{}"
       "set title 'odoloc locate ({}): {} fixes of {} cycles'\n"
       "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'\nset grid\n"
       "set offsets graph 0.05, graph 0.05, graph 0.05, graph 0.05\n"
       "set key below\nset style ellipse units xy\n"
       "plot $beacons using 1:2 with points pt 5 ps 1.5 lc rgb '#1f77b4' title 'beacons', \\\n"
       "  $beacons using 1:2:3 with labels offset 1.2,1.2 notitle",
-      svg ? "svg" : "pngcairo", kLocatePlotWidth, kLocatePlotHeight, quoted, data.blocks, solver,
-      valid, fixes.size());
+      svg ? "svg" : "pngcairo", kLocatePlotWidth, kLocatePlotHeight,
+      process::gnuplot_output(fs::path(output).filename().string()), data.blocks, solver, valid,
+      fixes.size());
   // Cycle numbers on at most about 40 fixes: more would merge into a band.
   constexpr long kMaxLabels = 40;
   const long label_every = std::max(1L, (valid + kMaxLabels - 1) / kMaxLabels);
@@ -432,19 +415,20 @@ std::string plot_script(std::span<const CycleFix> fixes, const LocateLayout& lay
   return script + "\n";
 }
 
-void run_locate(const LocateCommand& command, std::ostream& out, bool json) {
+void run_locate(const LocateCommand& command, std::ostream& out, bool json,
+                const std::atomic<bool>* stop) {
   const LocateLayout layout = load_layout(command.layout);
   const std::vector<ArrivalCycle> cycles = load_arrivals(command.arrivals, layout);
-  const std::vector<CycleFix> fixes = locate_fixes(layout, cycles, command);
+  const std::vector<CycleFix> fixes = locate_fixes(layout, cycles, command, stop);
   if (json) {
     for (const CycleFix& f : fixes)
-      out << fix_json(f, layout).dump() << '\n';
+      out << json_line(fix_json(f, layout)) << '\n';
   } else {
     out << fix_table(fixes, layout);
   }
   out << std::flush;
   if (!command.plot.empty())
-    plot(fixes, layout, command.plot);
+    plot(fixes, layout, command.plot, stop);
 }
 
 }  // namespace odoloc::cli

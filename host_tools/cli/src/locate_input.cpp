@@ -1,7 +1,6 @@
 #include "odoloc/cli/locate_input.hpp"
 
 #include <fmt/format.h>
-#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <array>
@@ -17,7 +16,9 @@
 #include <sstream>
 
 #include "odoloc/cli/errors.hpp"
+#include "odoloc/output/printable.hpp"
 #include "odoloc/sw/multilateration.hpp"
+#include "odoloc/yaml/one_document.hpp"
 
 namespace odoloc::cli {
 namespace {
@@ -51,17 +52,6 @@ bool is_id(std::string_view id) {
   });
 }
 
-// Text from a file as a message shows it: one line, control characters
-// escaped, long text cut.
-std::string shown(std::string_view text, std::size_t longest = 40) {
-  std::string out;
-  for (const char c : text.substr(0, longest)) {
-    const auto byte = static_cast<unsigned char>(c);
-    out += byte < 0x20 || byte == 0x7F ? fmt::format("\\x{:02x}", byte) : std::string(1, c);
-  }
-  return text.size() > longest ? out + "..." : out;
-}
-
 std::string known_ids(const LocateLayout& layout) {
   return fmt::format("{}", fmt::join(layout.ids, ", "));
 }
@@ -91,10 +81,10 @@ class LayoutReader {
     for (const auto& kv : map) {
       const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : std::string{};
       if (std::ranges::find(known, key) == known.end())
-        fail(kv.first, fmt::format("{}: unknown key '{}' (known: {})", where, shown(key),
-                                   fmt::join(known, ", ")));
+        fail(kv.first, fmt::format("{}: unknown key '{}' (known: {})", where,
+                                   output::printable_excerpt(key), fmt::join(known, ", ")));
       if (std::ranges::find(seen, key) != seen.end())
-        fail(kv.first, fmt::format("{}: '{}' given twice", where, shown(key)));
+        fail(kv.first, fmt::format("{}: '{}' given twice", where, output::printable_excerpt(key)));
       seen.push_back(key);
     }
   }
@@ -105,7 +95,8 @@ class LayoutReader {
         value.IsScalar() ? parse_real(value.Scalar()) : std::optional<double>{};
     if (!v)
       fail(value, fmt::format("{}: {} must be a finite number, not '{}'", where, key,
-                              value.IsScalar() ? shown(value.Scalar()) : "a list or mapping"));
+                              value.IsScalar() ? output::printable_excerpt(value.Scalar())
+                                               : "a list or mapping"));
     return *v;
   }
 
@@ -127,7 +118,7 @@ constexpr double kSamePlaceM = 1e-3;     // BeaconLayout::validate
 
 LocateLayout parse_layout_checked(std::string_view yaml, std::string_view name) {
   const LayoutReader r(name);
-  const YAML::Node root = YAML::Load(std::string{yaml});
+  const YAML::Node root = yaml::load_one_document(std::string{yaml});
   if (!root.IsMap())
     r.fail(root,
            "a layout is a YAML mapping with 'beacons' (and optionally 'speed_of_sound', "
@@ -163,7 +154,7 @@ LocateLayout parse_layout_checked(std::string_view yaml, std::string_view name) 
       id = n.IsScalar() ? n.Scalar() : std::string{};
       if (!is_id(id))
         r.fail(n, fmt::format("beacons[{}]: id '{}': ids are letters, digits, '_', '-' and '.'", i,
-                              shown(id)));
+                              output::printable_excerpt(id)));
     }
     const std::string where = fmt::format("beacon '{}'", id);
     if (const auto first = std::ranges::find(out.ids, id); first != out.ids.end())
@@ -210,7 +201,9 @@ ColumnIndex parse_header(const std::vector<std::string_view>& fields, std::strin
   for (std::size_t i = 0; i < fields.size(); ++i) {
     const auto known = std::ranges::find(kColumnNames, fields[i]);
     if (known == kColumnNames.end())
-      fail_at(name, line, fmt::format("unknown column '{}' ({})", shown(fields[i]), kHeaderHelp));
+      fail_at(name, line,
+              fmt::format("unknown column '{}' ({})", output::printable_excerpt(fields[i]),
+                          kHeaderHelp));
     int& slot = index[static_cast<std::size_t>(known - kColumnNames.begin())];
     if (slot >= 0)
       fail_at(name, line, fmt::format("column '{}' named twice", fields[i]));
@@ -244,7 +237,8 @@ std::uint64_t whole_number(std::string_view text, std::string_view column, std::
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (text.empty() || ec != std::errc{} || end != text.data() + text.size())
     fail_at(name, line,
-            fmt::format("{} '{}' is not a whole number from 0 to 2^64 - 1", column, shown(text)));
+            fmt::format("{} '{}' is not a whole number from 0 to 2^64 - 1", column,
+                        output::printable_excerpt(text)));
   return value;
 }
 
@@ -313,7 +307,8 @@ std::vector<ArrivalCycle> parse_arrivals(std::string_view csv, std::string_view 
     const std::optional<int> beacon = layout.find(id);
     if (!beacon)
       fail_at(name, line,
-              fmt::format("unknown beacon '{}' (the layout's: {})", shown(id), known_ids(layout)));
+              fmt::format("unknown beacon '{}' (the layout's: {})", output::printable_excerpt(id),
+                          known_ids(layout)));
     // The measurement: empty or nan is one that failed, and stays NaN.
     const std::string_view column = times ? "time_s" : "distance_m";
     const std::string_view value = field(times ? Column::kTime : Column::kDistance);
@@ -324,12 +319,12 @@ std::vector<ArrivalCycle> parse_arrivals(std::string_view csv, std::string_view 
       if (!v)
         fail_at(name, line,
                 fmt::format("{} '{}' is not a number (empty or nan: no measurement)", column,
-                            shown(value)));
+                            output::printable_excerpt(value)));
       range.distance_m = times ? *v * layout.speed_of_sound_mps : *v;
       if (!std::isfinite(range.distance_m))
-        fail_at(
-            name, line,
-            fmt::format("{} '{}' is out of range (its distance overflows)", column, shown(value)));
+        fail_at(name, line,
+                fmt::format("{} '{}' is out of range (its distance overflows)", column,
+                            output::printable_excerpt(value)));
     }
     const std::string_view sd_column = times ? "sd_s" : "sd_m";
     if (const std::string_view sd = field(times ? Column::kSdS : Column::kSdM);
@@ -339,12 +334,12 @@ std::vector<ArrivalCycle> parse_arrivals(std::string_view csv, std::string_view 
         fail_at(name, line,
                 fmt::format("{} '{}' is not a deviation: a finite number >= 0 (empty or nan: "
                             "the default, {} m)",
-                            sd_column, shown(sd), kDefaultSdM));
+                            sd_column, output::printable_excerpt(sd), kDefaultSdM));
       range.sd_m = times ? *v * layout.speed_of_sound_mps : *v;
       if (!std::isfinite(range.sd_m))
-        fail_at(
-            name, line,
-            fmt::format("{} '{}' is out of range (it overflows in metres)", sd_column, shown(sd)));
+        fail_at(name, line,
+                fmt::format("{} '{}' is out of range (it overflows in metres)", sd_column,
+                            output::printable_excerpt(sd)));
     }
     CycleRows& rows = cycles[cycle];
     rows.resize(layout.ids.size());
@@ -431,7 +426,7 @@ LocateLayout parse_layout(std::string_view yaml, std::string_view name) {
     return parse_layout_checked(yaml, name);
   } catch (const YAML::Exception& e) {  // syntax, nesting too deep, ...
     // Some of yaml-cpp's messages end with the offending character.
-    const std::string message = fmt::format("YAML: {}", shown(e.msg, 200));
+    const std::string message = fmt::format("YAML: {}", output::printable_excerpt(e.msg, 200));
     if (e.mark.is_null())
       throw UsageError(fmt::format("{}: {}", name, message));
     fail_at(name, static_cast<std::size_t>(e.mark.line) + 1, message);

@@ -7,7 +7,9 @@
 #include <ostream>
 
 #include "odoloc/cli/errors.hpp"
+#include "odoloc/cli/format.hpp"
 #include "odoloc/cli/locate_input.hpp"
+#include "odoloc/output/printable.hpp"
 #include "odoloc/plot/log_plot.hpp"
 #include "odoloc/plot/log_series.hpp"
 
@@ -48,7 +50,8 @@ double parse_ellipse_every(std::string_view text) {
   return *seconds;
 }
 
-void run_plot(const PlotCommand& command, std::ostream& out, bool json) {
+void run_plot(const PlotCommand& command, std::ostream& out, bool json,
+              const std::atomic<bool>* stop) {
   const plot::LogSeries series =
       translated<plot::PlotError>([&] { return plot::read_log(command.log); });
   if (!json)
@@ -56,18 +59,20 @@ void run_plot(const PlotCommand& command, std::ostream& out, bool json) {
   const plot::DrawOptions options{.png = command.out.empty() ? plot::default_png(command.log)
                                                              : std::filesystem::path(command.out),
                                   .ellipse_every_s = command.ellipse_every_s,
-                                  .keep_script = command.keep_script};
+                                  .keep_script = command.keep_script,
+                                  .stop = stop};
   const std::filesystem::path script =
       translated<plot::PlotError>([&] { return plot::draw(series, options); });
   if (json) {
     nlohmann::json doc = summary_json(series);
     doc["png"] = options.png.string();
     doc["script"] = script.empty() ? nlohmann::json(nullptr) : nlohmann::json(script.string());
-    out << doc.dump() << '\n';
+    out << json_line(doc) << '\n';
     return;
   }
-  out << fmt::format("picture: {}{}\n", options.png.string(),
-                     script.empty() ? "" : fmt::format(" (script: {})", script.string()));
+  out << fmt::format(
+      "picture: {}{}\n", output::printable(options.png.string()),
+      script.empty() ? "" : fmt::format(" (script: {})", output::printable(script.string())));
 }
 
 }  // namespace odoloc::cli

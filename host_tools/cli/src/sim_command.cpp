@@ -1,6 +1,7 @@
 #include "odoloc/cli/sim_command.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <chrono>
 #include <filesystem>
@@ -9,10 +10,14 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <ostream>
-#include <system_error>
+#include <string_view>
+#include <vector>
 
 #include "odoloc/cli/errors.hpp"
+#include "odoloc/cli/format.hpp"
 #include "odoloc/lcm/channels.hpp"
+#include "odoloc/output/output_file.hpp"
+#include "odoloc/output/printable.hpp"
 #include "odoloc/plot/log_plot.hpp"
 #include "odoloc/plot/log_series.hpp"
 #include "odoloc/sim/runner.hpp"
@@ -68,20 +73,38 @@ void run_sim(const SimCommand& command, std::ostream& out, bool json,
     throw UsageError("--laps must be 1 to 100");
   if (!(command.speed_mps > 0 && command.speed_mps <= 1.5))
     throw UsageError("--speed must be in (0, 1.5] m/s");
-  if (!(command.duration_s >= 0 && command.duration_s <= 1e4))
-    throw UsageError("--duration must be 0 to 10000 s");
+  if (command.duration_s && !(*command.duration_s > 0 && *command.duration_s <= 1e4))
+    throw UsageError("--duration must be more than 0 and at most 10000 s");
+  // With --out every file is made in a staging folder in DIR and delivered
+  // only when the run and the plot are done (output::OutputFile: whole, a
+  // device or FIFO written to, a link followed): an error or a signal leaves
+  // DIR as it was.
   const std::filesystem::path dir = command.out;
-  std::filesystem::path log, trajectories_csv, fixes_csv, png;
+  std::vector<std::string> names;
   if (!command.out.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-    if (ec)
-      throw FileError(fmt::format("cannot create {}: {}", dir.string(), ec.message()));
-    log = dir / "odoloc.lcmlog";
-    trajectories_csv = dir / "trajectories.csv";
-    fixes_csv = dir / "fixes.csv";
-    png = dir / "localisation.png";
+    names = {"odoloc.lcmlog", "trajectories.csv", "fixes.csv"};
+    if (!command.no_plot)
+      names.emplace_back("localisation.png");
   }
+  std::optional<output::OutputFolder> folder;
+  std::vector<std::unique_ptr<output::OutputFile>> outputs;
+  std::optional<output::Staging> staging;
+  translated<output::OutputError>([&] {
+    if (names.empty())
+      return;
+    folder.emplace(dir, output::OutputFolder::Create::kParents);
+    for (const std::string& name : names)
+      outputs.push_back(std::make_unique<output::OutputFile>(dir / name));
+    staging.emplace(dir, "sim");
+  });
+  const auto staged = [&](std::string_view name) {
+    return staging ? staging->dir() / name : std::filesystem::path{};
+  };
+  const std::filesystem::path log = staged("odoloc.lcmlog");
+  const std::filesystem::path trajectories_csv = staged("trajectories.csv");
+  const std::filesystem::path fixes_csv = staged("fixes.csv");
+  const std::filesystem::path png =
+      command.no_plot ? std::filesystem::path{} : staged("localisation.png");
   const std::string live_url =
       !command.lcm_url.empty() ? command.lcm_url : (command.out.empty() ? lcm::kDefaultUrl : "");
   // Opened before the minute of simulation: a bad URL fails at once.
@@ -92,8 +115,9 @@ void run_sim(const SimCommand& command, std::ostream& out, bool json,
                                   .step_s = 0.01,
                                   .cycle_step = command.cycle_step,
                                   .encoder_period_s = 0.1,
-                                  .until_s = command.duration_s,
-                                  .fuse_beacon_ranges = !command.no_beacon_ranges});
+                                  .until_s = command.duration_s.value_or(0),
+                                  .fuse_beacon_ranges = !command.no_beacon_ranges,
+                                  .stop = stop});
   const world::RoomTour& tour = system.tour();
   if (!json)
     out << fmt::format("odoloc sim: {}, {:.1f} s to simulate, seed {}{}\n", tour.name,
@@ -134,13 +158,20 @@ void run_sim(const SimCommand& command, std::ostream& out, bool json,
   }
   if (stop != nullptr && stop->load())
     throw Interrupted();
-  if (!png.empty() && !command.no_plot) {
+  if (!png.empty()) {
     try {
-      plot::draw(plot::read_log(log), {.png = png, .ellipse_every_s = 1.0, .keep_script = false});
+      plot::draw(plot::read_log(log),
+                 {.png = png, .ellipse_every_s = 1.0, .keep_script = false, .stop = stop});
     } catch (const plot::PlotError& e) {
       throw FileError(e.what());
     }
   }
+  translated<output::OutputError>([&] {
+    for (std::size_t i = 0; i < outputs.size(); ++i)
+      outputs[i]->commit_from(staged(names[i]));
+  });
+  if (folder)
+    folder->keep();
 
   const sim::ErrorReport& report = errors.report();
   // Everything: the world's pre-pass, the reference runs, the loop, the plot.
@@ -158,11 +189,11 @@ void run_sim(const SimCommand& command, std::ostream& out, bool json,
                         {"table", table_json(report)},
                         {"filter_updates", updates_json(system.localiser().filter())}};
     if (!command.out.empty())
-      j["files"] = {{"log", log.string()},
-                    {"trajectories", trajectories_csv.string()},
-                    {"fixes", fixes_csv.string()},
-                    {"plot", command.no_plot ? "" : png.string()}};
-    out << j.dump() << '\n';
+      j["files"] = {{"log", (dir / "odoloc.lcmlog").string()},
+                    {"trajectories", (dir / "trajectories.csv").string()},
+                    {"fixes", (dir / "fixes.csv").string()},
+                    {"plot", command.no_plot ? "" : (dir / "localisation.png").string()}};
+    out << json_line(j) << '\n';
     return;
   }
   out << fmt::format(
@@ -184,9 +215,12 @@ void run_sim(const SimCommand& command, std::ostream& out, bool json,
     out << fmt::format("register bridge: {} served, {} refused, {} errors; {} malformed messages\n",
                        summary.bridge.served, summary.bridge.refused, summary.bridge.errors,
                        summary.malformed);
-  if (!command.out.empty())
-    out << fmt::format("wrote {}, {}, {}{}\n", log.string(), trajectories_csv.string(),
-                       fixes_csv.string(), command.no_plot ? "" : ", " + png.string());
+  if (!command.out.empty()) {
+    std::vector<std::string> written;
+    for (const std::string& name : names)
+      written.push_back(output::printable((dir / name).string()));
+    out << fmt::format("wrote {}\n", fmt::join(written, ", "));
+  }
 }
 
 }  // namespace odoloc::cli

@@ -10,8 +10,10 @@
 #include <ostream>
 
 #include "odoloc/cli/errors.hpp"
+#include "odoloc/cli/format.hpp"
 #include "odoloc/cli/target.hpp"
 #include "odoloc/lcm/connection.hpp"
+#include "odoloc/output/printable.hpp"
 #include "odoloc_lcm/pose_estimate_t.hpp"
 
 namespace odoloc::cli {
@@ -51,10 +53,11 @@ std::string header() {
 
 std::string line(const Pose& pose) {
   const Deviations sd = deviations(pose);
-  return fmt::format(kRow, fmt::format("{:.6f}", seconds(pose.utime)), pose.source,
-                     fmt::format("{:.6f}", pose.x), fmt::format("{:.6f}", pose.y),
-                     fmt::format("{:.4f}", degrees(pose.theta)), fmt::format("{:.6f}", sd.x_m),
-                     fmt::format("{:.6f}", sd.y_m), fmt::format("{:.4f}", degrees(sd.theta_rad)),
+  return fmt::format(kRow, fmt::format("{:.6f}", seconds(pose.utime)),
+                     output::printable(pose.source), fmt::format("{:.6f}", pose.x),
+                     fmt::format("{:.6f}", pose.y), fmt::format("{:.4f}", degrees(pose.theta)),
+                     fmt::format("{:.6f}", sd.x_m), fmt::format("{:.6f}", sd.y_m),
+                     fmt::format("{:.4f}", degrees(sd.theta_rad)),
                      pose.odometry_only ? "yes" : "no");
 }
 
@@ -96,7 +99,7 @@ void run_watch_pose(const WatchPoseCommand& cmd, std::ostream& out, bool json,
     if ((cmd.count != 0 && printed == cmd.count) || (!all && pose.source != cmd.source))
       return;
     if (json)
-      out << document(pose).dump() << '\n';
+      out << json_line(document(pose)) << '\n';
     else
       out << (printed == 0 ? header() : std::string{}) << line(pose);
     out << std::flush;

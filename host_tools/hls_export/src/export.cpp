@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <fstream>
+#include <functional>
 #include <optional>
 #include <random>
 #include <set>
@@ -14,6 +15,7 @@
 
 #include "odoloc/hls_export/embedded.hpp"
 #include "odoloc/hls_export/reference.hpp"
+#include "odoloc/process/run_program.hpp"
 
 namespace odoloc::hls_export {
 
@@ -295,23 +297,30 @@ void write_file(const fs::path& path, const std::string& text) {
     file_error(fmt::format("export-hls: cannot write {}", path.string()));
 }
 
-ExportedTree write_tree(const KernelDescription& kernel, HlsTool tool, const fs::path& folder) {
+void check_stop(const std::atomic<bool>* stop) {
+  if (stop != nullptr && stop->load())
+    throw process::Interrupted();
+}
+
+ExportedTree write_tree(const KernelDescription& kernel, HlsTool tool, const fs::path& folder,
+                        const std::atomic<bool>* stop) {
   std::error_code error;
   fs::create_directory(folder, error);
   if (error)
     file_error(fmt::format("export-hls: cannot create {}: {}", folder.string(), error.message()));
   const ToolFiles files = tool_files(kernel, tool);
-  const std::array<std::pair<std::string_view, std::string>, 6> contents{{
-      {"kernel.h", kernel_header(kernel)},
-      {"kernel.cpp", kernel_source(kernel)},
-      {"kernel_test.cpp", kernel_test(kernel)},
-      {"golden_vectors.txt", golden_vectors(kernel)},
-      {files.script_name, files.script},
-      {"README.md", readme(kernel, tool, files)},
+  const std::array<std::pair<std::string_view, std::function<std::string()>>, 6> contents{{
+      {"kernel.h", [&] { return kernel_header(kernel); }},
+      {"kernel.cpp", [&] { return kernel_source(kernel); }},
+      {"kernel_test.cpp", [&] { return kernel_test(kernel); }},
+      {"golden_vectors.txt", [&] { return golden_vectors(kernel); }},
+      {files.script_name, [&] { return files.script; }},
+      {"README.md", [&] { return readme(kernel, tool, files); }},
   }};
   ExportedTree tree{std::string(kernel.name), folder, {}, kernel.golden_calls};
   for (const auto& [name, text] : contents) {
-    write_file(folder / name, text);
+    check_stop(stop);
+    write_file(folder / name, text());
     tree.files.emplace_back(name);
   }
   return tree;
@@ -376,7 +385,7 @@ std::string flatten(std::string_view key) {
   return out;
 }
 
-std::vector<ExportedTree> export_hls(const ExportRequest& request) {
+std::vector<ExportedTree> export_hls(const ExportRequest& request, const std::atomic<bool>* stop) {
   const std::vector<const KernelDescription*> chosen = requested_kernels(request.kernels);
   if (request.out.empty())
     usage_error("export-hls: --out is empty");
@@ -384,6 +393,9 @@ std::vector<ExportedTree> export_hls(const ExportRequest& request) {
   std::error_code error;
   const fs::file_status status = fs::status(out, error);
   const bool out_exists = fs::exists(status);
+  if (!out_exists && fs::is_symlink(fs::symlink_status(out, error)))
+    usage_error(fmt::format("export-hls: {} is a symbolic link to {}, which does not exist",
+                            out.string(), fs::read_symlink(out, error).string()));
   if (out_exists && !fs::is_directory(status))
     usage_error(fmt::format("export-hls: {} exists and is not a folder", out.string()));
   if (out_exists && !fs::is_empty(out, error) && !request.force)
@@ -394,11 +406,23 @@ std::vector<ExportedTree> export_hls(const ExportRequest& request) {
     usage_error(
         fmt::format("export-hls: the folder {} does not exist", out.parent_path().string()));
 
+  if (out_exists && request.force) {
+    for (const KernelDescription* kernel : chosen) {
+      const fs::path target = out / std::string(kernel->name);
+      if (fs::is_symlink(fs::symlink_status(target, error)))
+        usage_error(fmt::format(
+            "export-hls: {} is a symbolic link; --force replaces the kernels' folders, not what "
+            "a link points at: remove the link or export elsewhere",
+            target.string()));
+    }
+  }
+
   const fs::path staging = make_staging(out, out_exists);
   std::vector<ExportedTree> trees;
   try {
     for (const KernelDescription* kernel : chosen)
-      trees.push_back(write_tree(*kernel, request.tool, staging / std::string(kernel->name)));
+      trees.push_back(write_tree(*kernel, request.tool, staging / std::string(kernel->name), stop));
+    check_stop(stop);
     if (!out_exists) {
       fs::rename(staging, out);
     } else {

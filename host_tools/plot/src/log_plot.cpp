@@ -1,8 +1,6 @@
 #include "odoloc/plot/log_plot.hpp"
 
 #include <fmt/format.h>
-#include <stdlib.h>  // mkstemp
-#include <unistd.h>  // close
 
 #include <algorithm>
 #include <array>
@@ -14,12 +12,15 @@
 #include <string_view>
 #include <vector>
 
-#include "odoloc/process/run_program.hpp"
+#include "odoloc/output/output_file.hpp"
+#include "odoloc/output/printable.hpp"
+#include "odoloc/process/gnuplot.hpp"
 
 namespace odoloc::plot {
 namespace {
 
 namespace fs = std::filesystem;
+using process::gnuplot_string;
 
 // Each known track keeps its colour in both panels (and across pictures);
 // other sources take the palette's remaining colours in turn.
@@ -61,21 +62,6 @@ std::string colour_of(const std::string& name, std::size_t& others) {
       return std::string{c.rgb};
   }
   return std::string{kOtherColours[others++ % kOtherColours.size()]};
-}
-
-// A gnuplot double-quoted string: `\` and `"` escaped, so that any file or
-// source name is taken as it is, and "\n" in `text` breaks the line.
-std::string gnuplot_string(std::string_view text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    if (c == '\\' || c == '"')
-      out += '\\';
-    if (c == '\n')
-      out += "\\n";
-    else
-      out += c;
-  }
-  return out + '"';
 }
 
 double seconds_since(std::int64_t utime, std::int64_t start_utime) {
@@ -258,41 +244,6 @@ std::string error_title(const std::vector<const Track*>& tracks) {
   return out;
 }
 
-// gnuplot's message on one line: its lines trimmed and joined, without the
-// caret line that points into the echoed command.
-std::string one_line(std::string_view message) {
-  std::string out;
-  for (std::size_t start = 0; start < message.size();) {
-    std::size_t end = message.find('\n', start);
-    if (end == std::string_view::npos)
-      end = message.size();
-    const std::string_view line = message.substr(start, end - start);
-    start = end + 1;
-    if (line.find_first_not_of(" ^\t") != std::string_view::npos)
-      out += fmt::format("{}{}", out.empty() ? "" : "; ", line);
-  }
-  return out;
-}
-
-void write_text(const fs::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  out.close();
-  if (!out)
-    throw PlotError(false, fmt::format("cannot write the gnuplot script {}", path.string()));
-}
-
-// A fresh temporary file for the script; its path.
-fs::path temporary_script() {
-  std::string path = (fs::temp_directory_path() / "odoloc-plot-XXXXXX").string();
-  const int fd = ::mkstemp(path.data());
-  if (fd < 0)
-    throw PlotError(false, fmt::format("cannot create a temporary gnuplot script in {}",
-                                       fs::temp_directory_path().string()));
-  ::close(fd);
-  return path;
-}
-
 }  // namespace
 
 std::string plot_script(const LogSeries& series, const std::string& png_name,
@@ -304,8 +255,9 @@ std::string plot_script(const LogSeries& series, const std::string& png_name,
   const std::vector<const Track*> estimates = estimate_tracks(series);
   std::string script = fmt::format(
       "# Written by odoloc plot from {}; run it in the picture's folder: gnuplot SCRIPT\n"
-      "set terminal pngcairo noenhanced size {},{} font 'sans,10'\nset output {}\n",
-      gnuplot_string(series.file.string()), kPlotWidth, kPlotHeight, gnuplot_string(png_name));
+      "set terminal pngcairo noenhanced size {},{} font 'sans,10'\n{}",
+      output::printable(series.file.string()), kPlotWidth, kPlotHeight,
+      process::gnuplot_output(png_name));
 
   // The data: trajectories, errors, ellipses.
   std::size_t others = 0;
@@ -366,9 +318,11 @@ std::string plot_script(const LogSeries& series, const std::string& png_name,
 
   // The panels.
   const bool errors = !position_plot.empty();
-  std::string title = "odoloc plot: " + series.file.string();
+  // Two lines joined by gnuplot's own "\n": a line break inside a constant
+  // would be shown as an escape.
+  std::string title = gnuplot_string("odoloc plot: " + series.file.string());
   if (errors)
-    title += "\nposition error, final / RMS: " + error_title(estimates);
+    title += ".\"\\n\"." + gnuplot_string("position error, final / RMS: " + error_title(estimates));
   // The ellipses are said in the panel's title: in the key, below the tracks,
   // their long entries would take a second column.
   std::string xy_title = "(a) trajectories, equal axis scale";
@@ -381,8 +335,7 @@ std::string plot_script(const LogSeries& series, const std::string& png_name,
       "set multiplot title {}\nset grid\nset key outside top center horizontal\n"
       "set origin 0,0\nset size ratio -1 {},{}\n{}set xlabel 'x [m]'\nset ylabel 'y [m]'\n"
       "set title {}\n{}\nset autoscale xy\n",
-      gnuplot_string(title), errors ? 0.5 : 1.0, kPanelHeight, bounds.ranges(),
-      gnuplot_string(xy_title), xy_plot);
+      title, errors ? 0.5 : 1.0, kPanelHeight, bounds.ranges(), gnuplot_string(xy_title), xy_plot);
   if (errors) {
     script += fmt::format(
         "set size noratio 0.5,{0}\nset origin 0.5,{0}\nset lmargin 10\nset rmargin 3\n"
@@ -406,37 +359,25 @@ fs::path draw(const LogSeries& series, const DrawOptions& options) {
   if (!ec && png == fs::weakly_canonical(series.file, log_ec) && !log_ec)
     throw PlotError(
         true, fmt::format("the picture {} would replace the log itself", options.png.string()));
-  const fs::path folder = options.png.has_parent_path() ? options.png.parent_path() : ".";
-  // gnuplot runs there: without it, it could not even be started.
-  if (!fs::is_directory(folder, ec))
-    throw PlotError(true, fmt::format("cannot write the picture {}: the folder {} does not exist",
-                                      options.png.string(), folder.string()));
   const std::string script =
       plot_script(series, options.png.filename().string(), options.ellipse_every_s);
-  fs::path script_path =
-      options.keep_script ? fs::path(options.png).replace_extension(".gp") : temporary_script();
+  const fs::path script_path =
+      options.keep_script ? fs::path(options.png).replace_extension(".gp") : fs::path{};
+  process::ProgramResult gnuplot;
   try {
-    write_text(script_path, script);
-  } catch (const PlotError&) {
-    if (!options.keep_script)
-      fs::remove(script_path, ec);
-    throw;
+    gnuplot = process::draw_with_gnuplot(script, options.png, script_path, options.stop);
+  } catch (const output::OutputError& e) {
+    throw PlotError(e.usage(), e.what());
   }
-  const process::ProgramResult gnuplot =
-      process::run_program("gnuplot", {fs::absolute(script_path).string()}, folder);
-  if (!options.keep_script) {
-    fs::remove(script_path, ec);
-    script_path.clear();
-  }
+  if (gnuplot.interrupted)
+    throw process::Interrupted();
   if (!gnuplot.launched)
     throw PlotError(false, fmt::format("cannot run gnuplot (install it: apt-get install "
                                        "gnuplot-nox): {}",
-                                       one_line(gnuplot.message)));
-  if (!gnuplot.ok() || !fs::is_regular_file(options.png, ec)) {
-    fs::remove(options.png, ec);
+                                       process::one_line(gnuplot.message)));
+  if (!gnuplot.ok())
     throw PlotError(false, fmt::format("gnuplot did not draw {}: {}", options.png.string(),
-                                       one_line(gnuplot.message)));
-  }
+                                       process::one_line(gnuplot.message)));
   return script_path;
 }
 

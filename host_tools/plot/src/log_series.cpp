@@ -15,6 +15,7 @@
 
 #include "odoloc/lcm/channels.hpp"
 #include "odoloc/lcm/connection.hpp"
+#include "odoloc/output/printable.hpp"
 #include "odoloc_lcm/beacon_fix_t.hpp"
 #include "odoloc_lcm/pose_estimate_t.hpp"
 
@@ -243,7 +244,10 @@ LogSeries read_log(const fs::path& file) {
 std::string summary_text(const LogSeries& series) {
   const LogCounts& c = series.counts;
   const Track& truth = series.truth;
-  std::string out = fmt::format("{}: {} events; ", series.file.string(), c.events);
+  // Names from the command line and the log, shown as text (a source may
+  // be anything a publisher sent).
+  std::string out =
+      fmt::format("{}: {} events; ", output::printable(series.file.string()), c.events);
   if (truth.samples.empty())
     out += "no truth (ODOLOC_TRUTH): no errors";
   else
@@ -259,8 +263,8 @@ std::string summary_text(const LogSeries& series) {
                      "compared", "final_mm", "rms_mm", "final_deg", "rms_deg");
   for (const Track* t : estimate_tracks(series)) {
     const ErrorSummary s = summarize(*t);
-    out += fmt::format("{:<12} {:>8} {:>8} {:>9} {:>9} {:>9} {:>9}\n", t->name, t->samples.size(),
-                       s.compared, shown(s.final_position_m * 1e3, 1),
+    out += fmt::format("{:<12} {:>8} {:>8} {:>9} {:>9} {:>9} {:>9}\n", output::printable(t->name),
+                       t->samples.size(), s.compared, shown(s.final_position_m * 1e3, 1),
                        shown(s.rms_position_m * 1e3, 1), shown(degrees(s.final_heading_rad), 3),
                        shown(degrees(s.rms_heading_rad), 3));
   }

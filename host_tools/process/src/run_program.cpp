@@ -1,5 +1,7 @@
 #include "odoloc/process/run_program.hpp"
 
+#include <poll.h>
+#include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -13,7 +15,7 @@ extern char** environ;  // NOLINT: POSIX
 namespace odoloc::process {
 
 ProgramResult run_program(const std::string& program, const std::vector<std::string>& args,
-                          const std::filesystem::path& working_dir) {
+                          const std::filesystem::path& working_dir, const std::atomic<bool>* stop) {
   ProgramResult result;
   std::array<int, 2> err{};
   if (pipe(err.data()) != 0) {
@@ -43,11 +45,20 @@ ProgramResult run_program(const std::string& program, const std::vector<std::str
     return result;
   }
   std::array<char, 4096> buffer{};
-  for (ssize_t n = 0; (n = read(err[0], buffer.data(), buffer.size())) != 0;) {
+  constexpr int kStopPollMs = 10;
+  for (;;) {
+    if (stop != nullptr && stop->load() && !result.interrupted) {
+      result.interrupted = true;
+      kill(pid, SIGTERM);
+    }
+    pollfd readable{.fd = err[0], .events = POLLIN, .revents = 0};
+    if (poll(&readable, 1, kStopPollMs) <= 0)
+      continue;  // a timeout or a signal: look at the flag again
+    const ssize_t n = read(err[0], buffer.data(), buffer.size());
     if (n < 0 && errno == EINTR)
       continue;
-    if (n < 0)
-      break;
+    if (n <= 0)
+      break;  // the end: every writer (the program, its children) closed it
     result.message.append(buffer.data(), static_cast<std::size_t>(n));
   }
   close(err[0]);
@@ -57,6 +68,20 @@ ProgramResult run_program(const std::string& program, const std::vector<std::str
   result.launched = true;
   result.exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   return result;
+}
+
+std::string one_line(std::string_view message) {
+  std::string out;
+  for (std::size_t start = 0; start < message.size();) {
+    std::size_t end = message.find('\n', start);
+    if (end == std::string_view::npos)
+      end = message.size();
+    const std::string_view line = message.substr(start, end - start);
+    start = end + 1;
+    if (line.find_first_not_of(" ^\t") != std::string_view::npos)
+      out += (out.empty() ? "" : "; ") + std::string{line};
+  }
+  return out;
 }
 
 ProgramResult run_shell(const std::string& command, const std::filesystem::path& working_dir) {

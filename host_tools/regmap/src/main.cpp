@@ -6,6 +6,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "odoloc/output/output_file.hpp"
 #include "odoloc/regmap/regmap.hpp"
 
 namespace {
@@ -19,10 +20,12 @@ void write_if_changed(const std::string& path, const std::string& text) {
   old << in.rdbuf();
   if (in && old.str() == text)
     return;
-  std::ofstream out(path);
-  out << text;
-  if (!out)
-    throw odoloc::regmap::RegmapError("cannot write " + path);
+  // Whole or not at all: a build interrupted here leaves the old header.
+  try {
+    odoloc::output::write_file(path, text);
+  } catch (const odoloc::output::OutputError& e) {
+    throw odoloc::regmap::RegmapError(e.what());
+  }
 }
 
 }  // namespace

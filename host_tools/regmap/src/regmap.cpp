@@ -1,7 +1,5 @@
 #include "odoloc/regmap/regmap.hpp"
 
-#include <yaml-cpp/yaml.h>
-
 #include <algorithm>
 #include <fstream>
 #include <initializer_list>
@@ -12,6 +10,7 @@
 #include <string_view>
 
 #include "names.hpp"
+#include "odoloc/yaml/one_document.hpp"
 #include "text.hpp"
 
 namespace odoloc::regmap {
@@ -595,7 +594,7 @@ namespace {
 RegisterMap parse_checked(const std::string& yaml_text) {
   YAML::Node root;
   try {
-    root = YAML::Load(yaml_text);
+    root = yaml::load_one_document(yaml_text);
   } catch (const YAML::Exception& e) {
     throw RegmapError(std::string("YAML: ") + e.what());
   }

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace odoloc::sim {
@@ -60,7 +61,8 @@ SourceErrors ErrorReport::errors(Source source) const {
   e.final_heading_rad = s.has_heading ? wrapped(s.last.theta_rad - s.last_truth.theta_rad) : 0.0;
   e.rms_position_m = std::sqrt(s.position2 / n);
   e.rms_heading_rad = std::sqrt(s.heading2 / n);
-  e.return_to_start_m = distance(s.last, start_);
+  e.return_to_start_m =
+      returns_to_start_ ? distance(s.last, start_) : std::numeric_limits<double>::quiet_NaN();
   return e;
 }
 
@@ -77,10 +79,12 @@ std::string ErrorReport::table() const {
     const auto degrees = [&](double rad) {
       return e.has_heading ? fmt::format("{:.2f}", rad * kDegPerRad) : std::string("-");
     };
-    out +=
-        fmt::format("{:<24} {:>8} {:>11.1f} {:>11} {:>10.1f} {:>10} {:>13.1f}\n", name(source),
-                    e.samples, e.final_position_m * 1e3, degrees(e.final_heading_rad),
-                    e.rms_position_m * 1e3, degrees(e.rms_heading_rad), e.return_to_start_m * 1e3);
+    const std::string returned = std::isnan(e.return_to_start_m)
+                                     ? std::string("-")
+                                     : fmt::format("{:.1f}", e.return_to_start_m * 1e3);
+    out += fmt::format("{:<24} {:>8} {:>11.1f} {:>11} {:>10.1f} {:>10} {:>13}\n", name(source),
+                       e.samples, e.final_position_m * 1e3, degrees(e.final_heading_rad),
+                       e.rms_position_m * 1e3, degrees(e.rms_heading_rad), returned);
   }
   return out;
 }

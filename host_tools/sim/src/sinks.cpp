@@ -69,6 +69,11 @@ world::Pose odometry_pose(const sw::LocaliserStep& step) {
 
 // ------------------------------------------------------------------ errors
 
+void ErrorSink::finish(LocalisationSystem& system) {
+  if (system.cut_short())
+    report_.cut_short();
+}
+
 void ErrorSink::frame(const Frame& frame, LocalisationSystem& system) {
   report_.add(Source::kMinSelect, frame.truth, odometry_pose(frame.soc));
   for (const auto& [source, policy] :

@@ -149,13 +149,14 @@ LocalisationSystem::LocalisationSystem(world::RoomTour tour, const SystemOptions
     throw std::invalid_argument("the SoC loop's period must be in [1 ms, 100 ms]");
   if (!(options_.encoder_period_s >= options_.step_s && options_.encoder_period_s <= 10))
     throw std::invalid_argument("the encoder read period must be in [the step, 10 s]");
-  const auto reference_run = [drive = tour_.drive,
-                              end = tour_.duration_s](rtl::MinSelectPolicy policy) {
+  const auto reference_run = [drive = tour_.drive, end = tour_.duration_s,
+                              stop = options_.stop](rtl::MinSelectPolicy policy) {
     return board::run_scenario(drive, {.policy = policy,
                                        .tuning = board::MinSelectTuning::kVehicle,
                                        .record_every_clocks = 500'000,
                                        .cycle_step = false,
-                                       .max_seconds = end});
+                                       .max_seconds = end,
+                                       .stop = stop});
   };
   rear_future_ = std::async(std::launch::async, reference_run, rtl::MinSelectPolicy::kRearOnly);
   front_future_ = std::async(std::launch::async, reference_run, rtl::MinSelectPolicy::kFrontOnly);

@@ -5,9 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
 
-#include "odoloc/process/run_program.hpp"
-#include "odoloc/sweep/atomic_file.hpp"
+#include "odoloc/output/output_file.hpp"
+#include "odoloc/process/gnuplot.hpp"
 #include "odoloc/sweep/error.hpp"
 
 namespace odoloc::sweep {
@@ -52,14 +53,6 @@ std::string settings_of(const Spec& spec, std::uint64_t point, std::span<const s
     out += fmt::format("{}{}={}", out.empty() ? "" : ", ", spec.axes[a].parameter,
                        to_text(value_at(spec, point, a)));
   return out;
-}
-
-// gnuplot's message on one line.
-std::string one_line(std::string text) {
-  std::ranges::replace(text, '\n', ' ');
-  while (!text.empty() && text.back() == ' ')
-    text.pop_back();
-  return text;
 }
 
 // Markdown's numbers: six significant digits, "-" for no value.
@@ -267,26 +260,32 @@ std::string plot_script(const MergedSweep& sweep) {
     }
     for (std::size_t s = 0; s < blocks.size(); ++s)
       out += fmt::format("$d{}_{} << EOD\n{}EOD\n", x_axis, s, blocks[s]);
+    // Every name from the spec (its own, a parameter's, a value's) as a
+    // gnuplot string constant: data, never code.
+    const std::string parameter = process::gnuplot_string(axis.parameter);
     out += fmt::format(
-        "set output '{0}.png'\nset multiplot layout {1},1 title '{2}: metrics against {0} (mean "
-        "solid, p95 dashed)'\nset xlabel '{0}'\n",
-        axis.parameter, names.size(), spec.name);
+        "set output {}\nset multiplot layout {},1 title {}\nset xlabel {}\n",
+        process::gnuplot_string(axis.parameter + ".png"), names.size(),
+        process::gnuplot_string(fmt::format("{}: metrics against {} (mean solid, p95 dashed)",
+                                            spec.name, axis.parameter)),
+        parameter);
     if (named) {
       std::vector<std::string> tics;
       for (std::size_t i = 0; i < axis.values.size(); ++i)
-        tics.push_back(fmt::format("'{}' {}", to_text(axis.values[i]), i));
+        tics.push_back(fmt::format("{} {}", process::gnuplot_string(to_text(axis.values[i])), i));
       out += fmt::format("set xtics ({})\nset xrange [-0.5:{}.5]\n", fmt::join(tics, ", "),
                          axis.values.size() - 1);
     } else {
       out += "set xtics autofreq\nset autoscale x\n";
     }
     for (std::size_t m = 0; m < names.size(); ++m) {
-      out += fmt::format("set ylabel '{}'\nplot", names[m].name);
+      out += fmt::format("set ylabel {}\nplot", process::gnuplot_string(names[m].name));
       for (std::size_t s = 0; s < blocks.size(); ++s)
         out += fmt::format(
-            "{0} $d{1}_{2} using 1:{3} with linespoints lc {4} pt 7 title '{5}', $d{1}_{2} using "
+            "{0} $d{1}_{2} using 1:{3} with linespoints lc {4} pt 7 title {5}, $d{1}_{2} using "
             "1:{6} with lines dt 2 lc {4} notitle",
-            s == 0 ? "" : ",", x_axis, s, 2 + 2 * m, s + 1, labels[s], 3 + 2 * m);
+            s == 0 ? "" : ",", x_axis, s, 2 + 2 * m, s + 1, process::gnuplot_string(labels[s]),
+            3 + 2 * m);
       out += '\n';
     }
     out += "unset multiplot\nset output\n";
@@ -294,39 +293,48 @@ std::string plot_script(const MergedSweep& sweep) {
   return out;
 }
 
-std::vector<fs::path> write_merged(const MergedSweep& sweep, const fs::path& dir, bool draw) {
-  std::error_code ec;
-  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
-    usage_error(fmt::format("--out {}: exists and is not a folder", dir.string()));
-  fs::create_directory(dir, ec);
-  if (ec)
-    usage_error(fmt::format("--out {}: cannot create the folder: {}", dir.string(), ec.message()));
-  std::vector<fs::path> written;
-  for (const auto& [file, text] :
-       {std::pair{"jobs.csv", jobs_csv(sweep)}, std::pair{"points.csv", points_csv(sweep)},
-        std::pair{"summary.md", summary_markdown(sweep)},
-        std::pair{"plots.gp", plot_script(sweep)}}) {
-    write_file(dir / file, text);
-    written.push_back(dir / file);
-  }
-  const std::vector<std::string> pictures = plot_files(sweep.spec);
-  if (!draw || pictures.empty())
+std::vector<fs::path> write_merged(const MergedSweep& sweep, const fs::path& dir, bool draw,
+                                   const std::atomic<bool>* stop) {
+  return writing([&] {
+    output::OutputFolder folder(dir);
+    std::vector<std::string> names = {"jobs.csv", "points.csv", "summary.md", "plots.gp"};
+    const std::vector<std::string> pictures = plot_files(sweep.spec);
+    if (draw)
+      names.insert(names.end(), pictures.begin(), pictures.end());
+    // Every output is checked before anything is made; all are made in the
+    // staging folder, then delivered: an error or a signal leaves `dir` as
+    // it was.
+    std::vector<std::unique_ptr<output::OutputFile>> outputs;
+    for (const std::string& name : names)
+      outputs.push_back(std::make_unique<output::OutputFile>(dir / name));
+    const output::Staging staging(dir, "merge");
+    for (const auto& [file, text] :
+         {std::pair{"jobs.csv", jobs_csv(sweep)}, std::pair{"points.csv", points_csv(sweep)},
+          std::pair{"summary.md", summary_markdown(sweep)},
+          std::pair{"plots.gp", plot_script(sweep)}})
+      output::write_file(staging.dir() / file, text);
+    if (draw && !pictures.empty()) {
+      const process::ProgramResult gnuplot =
+          process::run_program("gnuplot", {"plots.gp"}, staging.dir(), stop);
+      if (gnuplot.interrupted)
+        throw process::Interrupted();
+      if (!gnuplot.ok())
+        throw SweepError(false,
+                         gnuplot.launched
+                             ? fmt::format("gnuplot failed on {}: {}", (dir / "plots.gp").string(),
+                                           process::one_line(gnuplot.message))
+                             : fmt::format("cannot run gnuplot (install gnuplot-nox, or pass "
+                                           "--no-plot): {}",
+                                           process::one_line(gnuplot.message)));
+    }
+    std::vector<fs::path> written;
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      outputs[i]->commit_from(staging.dir() / names[i]);
+      written.push_back(dir / names[i]);
+    }
+    folder.keep();
     return written;
-  const process::ProgramResult gnuplot = process::run_program("gnuplot", {"plots.gp"}, dir);
-  if (!gnuplot.ok()) {
-    for (const std::string& p : pictures)
-      fs::remove(dir / p, ec);
-    throw SweepError(false,
-                     gnuplot.launched
-                         ? fmt::format("gnuplot failed on {}: {}", (dir / "plots.gp").string(),
-                                       one_line(gnuplot.message))
-                         : fmt::format("cannot run gnuplot (install gnuplot-nox, or pass "
-                                       "--no-plot): {}",
-                                       one_line(gnuplot.message)));
-  }
-  for (const std::string& p : pictures)
-    written.push_back(dir / p);
-  return written;
+  });
 }
 
 }  // namespace odoloc::sweep

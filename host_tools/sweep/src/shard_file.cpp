@@ -11,7 +11,6 @@
 #include <optional>
 #include <sstream>
 
-#include "odoloc/sweep/atomic_file.hpp"
 #include "odoloc/sweep/error.hpp"
 
 namespace odoloc::sweep {
@@ -158,7 +157,7 @@ JobResult run_job(const Spec& spec, std::uint64_t job) {
 
 std::uint64_t run_shard(const Spec& spec, Shard shard, const std::filesystem::path& out,
                         const std::function<void()>& between_jobs) {
-  AtomicFile file(out);
+  output::OutputFile file = writing([&] { return output::OutputFile(out); });
   file.out() << header_line(spec, shard);
   std::uint64_t run = 0;
   for (std::uint64_t job = shard.k - 1; job < spec.jobs(); job += shard.n) {
@@ -167,7 +166,7 @@ std::uint64_t run_shard(const Spec& spec, Shard shard, const std::filesystem::pa
     file.out() << job_line(spec, run_job(spec, job));
     ++run;
   }
-  file.commit();
+  writing([&] { file.commit(); });
   return run;
 }
 

@@ -1,7 +1,6 @@
 #include "odoloc/sweep/spec.hpp"
 
 #include <fmt/format.h>
-#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <array>
@@ -12,7 +11,9 @@
 #include <sstream>
 
 #include "decimal.hpp"
+#include "odoloc/output/printable.hpp"
 #include "odoloc/sweep/error.hpp"
+#include "odoloc/yaml/one_document.hpp"
 
 namespace odoloc::sweep {
 namespace {
@@ -22,18 +23,6 @@ constexpr std::size_t kMaxNameLength = 80;
 
 [[noreturn]] void usage_error(const std::string& what) {
   throw SweepError(true, what);
-}
-
-// Text from the file as a message shows it: control characters escaped,
-// long text cut.
-std::string shown(std::string_view text) {
-  constexpr std::size_t kLongest = 40;
-  std::string out;
-  for (const char c : text.substr(0, kLongest)) {
-    const auto byte = static_cast<unsigned char>(c);
-    out += byte < 0x20 || byte == 0x7F ? fmt::format("\\x{:02x}", byte) : std::string(1, c);
-  }
-  return text.size() > kLongest ? out + "..." : out;
 }
 
 // "a, b, c or d"
@@ -75,12 +64,14 @@ std::string check_value(const ParameterInfo& p, const Value& value) {
     const auto* text = std::get_if<std::string>(&value);
     if (text == nullptr || std::ranges::find(p.choices, *text) == p.choices.end())
       return fmt::format("unknown value '{}' (expected {})",
-                         text == nullptr ? to_text(value) : shown(*text), listed(p.choices));
+                         text == nullptr ? to_text(value) : output::printable_excerpt(*text),
+                         listed(p.choices));
     return {};
   }
   const auto* number = std::get_if<double>(&value);
   if (number == nullptr)
-    return fmt::format("'{}' is not a finite number", shown(std::get<std::string>(value)));
+    return fmt::format("'{}' is not a finite number",
+                       output::printable_excerpt(std::get<std::string>(value)));
   if (!(*number >= p.min && *number <= p.max))
     return fmt::format("{} is outside {}..{} ({})", *number, p.min, p.max, p.meaning);
   return {};
@@ -132,8 +123,8 @@ class Reader {
     const std::string text = scalar(node, key);
     const std::optional<std::uint64_t> v = whole_number(text);
     if (!v || *v < least)
-      fail(node, fmt::format("{}: '{}' is not a whole number from {} to 2^64 - 1", key, shown(text),
-                             least));
+      fail(node, fmt::format("{}: '{}' is not a whole number from {} to 2^64 - 1", key,
+                             output::printable_excerpt(text), least));
     return *v;
   }
 
@@ -179,8 +170,8 @@ class Reader {
     for (const auto& kv : map) {
       const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : std::string{};
       if (std::ranges::find(known, key) == known.end())
-        fail(kv.first, fmt::format("{}unknown {} '{}' (expected {})", prefix, noun, shown(key),
-                                   listed(known)));
+        fail(kv.first, fmt::format("{}unknown {} '{}' (expected {})", prefix, noun,
+                                   output::printable_excerpt(key), listed(known)));
       if (std::ranges::find(seen, key) != seen.end())
         fail(kv.first, fmt::format("{}'{}' given twice", prefix, key));
       seen.push_back(key);
@@ -199,12 +190,13 @@ class Reader {
     s.name = scalar(root["name"], "name");
     if (!is_sweep_name(s.name))
       fail(root["name"], fmt::format("name: '{}': up to {} letters, digits, '_', '-' and '.'",
-                                     shown(s.name), kMaxNameLength));
+                                     output::printable_excerpt(s.name), kMaxNameLength));
     const std::string experiment = scalar(root["experiment"], "experiment");
     const auto known = std::ranges::find(kExperimentNames, experiment);
     if (known == std::end(kExperimentNames))
-      fail(root["experiment"], fmt::format("unknown experiment '{}' (expected {})",
-                                           shown(experiment), listed(kExperimentNames)));
+      fail(root["experiment"],
+           fmt::format("unknown experiment '{}' (expected {})",
+                       output::printable_excerpt(experiment), listed(kExperimentNames)));
     s.experiment = static_cast<Experiment>(known - std::begin(kExperimentNames));
     s.seed = whole(root["seed"], "seed", 0);
     s.trials = whole(root["trials"], "trials", 1);
@@ -258,9 +250,9 @@ Settings Spec::settings(std::uint64_t point) const {
 Spec parse_spec(std::string_view yaml, std::string_view file) {
   const Reader reader(file);
   try {
-    return reader.spec(YAML::Load(std::string{yaml}));
+    return reader.spec(yaml::load_one_document(std::string{yaml}));
   } catch (const YAML::Exception& e) {  // syntax, nesting too deep, ...
-    const std::string message = fmt::format("YAML: {}", shown(e.msg));
+    const std::string message = fmt::format("YAML: {}", output::printable_excerpt(e.msg));
     if (e.mark.is_null())
       usage_error(fmt::format("{}: {}", file, message));
     usage_error(fmt::format("{}:{}: {}", file, e.mark.line + 1, message));
@@ -330,7 +322,8 @@ Spec spec_from_json(const nlohmann::json& json, std::string_view where) {
     const std::string parameter = a["parameter"].get<std::string>();
     const ParameterInfo* p = find_parameter(s.experiment, parameter);
     if (p == nullptr || std::ranges::find(s.axes, parameter, &Axis::parameter) != s.axes.end())
-      fail(fmt::format("spec: parameter '{}' unknown or given twice", shown(parameter)));
+      fail(fmt::format("spec: parameter '{}' unknown or given twice",
+                       output::printable_excerpt(parameter)));
     Axis axis{parameter, {}, a["given"].get<bool>()};
     for (const nlohmann::json& v : a["values"]) {
       Value value;

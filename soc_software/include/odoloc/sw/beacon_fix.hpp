@@ -120,6 +120,11 @@ enum class NoFixReason : std::uint8_t {
   kNotConverged,        // iteration limit reached, or the iteration diverged
   kMirrorAmbiguous,     // two solutions fit the data equally well (fix.mirror_m holds the other)
   kInconsistent,        // no subset of the measurements agrees within the noise
+  // Two different sets of beacons each explain the cycle at two different
+  // places (echoes that agree with one another as well as the direct paths
+  // do): choosing one would be a guess with a confident covariance.
+  // fix.position_m holds the chosen set's fix, fix.mirror_m the rival's.
+  kAmbiguousBeaconSets,
 };
 
 // What a solver did with each beacon of the range set.

@@ -99,7 +99,8 @@ struct CycleResult {
   locate::Heading heading;
   // What the filter did with the cycle's ranges: kNotInitialised before the
   // first pose (or with fuse_beacon_ranges off), kAccepted when this
-  // cycle's fix initialised it.
+  // cycle's fix initialised it, kAmbiguous when the fix was refused as
+  // ambiguous (the ranges are not fused).
   fuse::Outcome fused = fuse::Outcome::kNotInitialised;
 };
 

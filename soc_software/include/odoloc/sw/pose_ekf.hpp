@@ -171,6 +171,11 @@ enum class Outcome : std::uint8_t {
   kTooLate,         // older than the history
   kNotInitialised,  // before the first pose
   kDegenerate,      // the geometry gives no information (at the station, no ranges)
+  // Not offered to the filter: the beacon cycle's solver found two sets of
+  // beacons explaining it at two places (locate::NoFixReason::
+  // kAmbiguousBeaconSets), so its ranges hold echoes that fit as well as the
+  // direct paths (the localiser's decision; the filter never returns it).
+  kAmbiguous,
 };
 std::string_view name(Outcome outcome);
 

@@ -4,6 +4,7 @@
 // by the demo (the main job) and by the scenario testbenches.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <vector>
 
@@ -50,6 +51,9 @@ struct RunOptions {
   std::uint64_t record_every_clocks = 0;  // 0: no track
   bool cycle_step = false;  // step every clock instead of fast-forwarding (bit-identical, slower)
   double max_seconds = 0;   // > 0: stop the drive after this much simulated time
+  // Set meanwhile (a signal): the drive ends at the next tick, the result
+  // covers the time run so far.
+  const std::atomic<bool>* stop = nullptr;
 };
 
 RunResult run_scenario(const world::Scenario& scenario, const RunOptions& options);

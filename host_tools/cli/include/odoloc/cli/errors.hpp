@@ -3,12 +3,17 @@
 
 #include <stdexcept>
 
+#include "odoloc/process/run_program.hpp"
+
 namespace odoloc::cli {
 
 inline constexpr int kExitOk = 0;
-inline constexpr int kExitBus = 1;            // the bus or the link failed (sw::BusError)
-inline constexpr int kExitUsage = 2;          // bad command line, name, value, address or target
-inline constexpr int kExitInterrupted = 130;  // ended by Ctrl-C (SIGINT), as a shell reports it
+inline constexpr int kExitBus = 1;    // the bus or the link failed (sw::BusError)
+inline constexpr int kExitUsage = 2;  // bad command line, name, value, address or target
+// Ended by a signal: run_cli returns 130 (128 + SIGINT); main returns 128 +
+// the number of the signal that came (SIGTERM 143, SIGHUP 129), as a shell
+// reports a process that signal ended.
+inline constexpr int kExitInterrupted = 130;
 
 // Anything the user can fix on the command line; detected before any bus
 // traffic whenever possible. The message is one line, without "odoloc: ".
@@ -40,11 +45,9 @@ auto translated(F&& body) {
   }
 }
 
-// Ctrl-C: thrown by long-running loops (simulated time, watch, wait) when the
-// stop flag is set; the tool exits kExitInterrupted without a message.
-class Interrupted : public std::runtime_error {
- public:
-  Interrupted() : std::runtime_error("interrupted") {}
-};
+// Ctrl-C, SIGTERM, SIGHUP: thrown by long-running loops (simulated time,
+// watch, wait) and the libraries when the stop flag is set; the tool exits
+// 128 + the signal's number without a message.
+using Interrupted = process::Interrupted;
 
 }  // namespace odoloc::cli

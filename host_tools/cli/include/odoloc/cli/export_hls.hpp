@@ -2,6 +2,7 @@
 // trees for Vitis HLS, Catapult or Intel HLS. No target: it writes files only.
 #pragma once
 
+#include <atomic>
 #include <iosfwd>
 #include <string>
 #include <vector>
@@ -18,7 +19,9 @@ struct ExportHlsCommand {
 [[nodiscard]] hls_export::HlsTool parse_hls_tool(const std::string& name);
 
 // Writes the trees and one line (or JSON object) per tree. A bad request is a
-// UsageError, a failed write a FileError; either way nothing is left behind.
-void run_export_hls(const ExportHlsCommand& command, std::ostream& out, bool json);
+// UsageError, a failed write a FileError, a signal (`stop`) Interrupted;
+// either way nothing is left behind.
+void run_export_hls(const ExportHlsCommand& command, std::ostream& out, bool json,
+                    const std::atomic<bool>* stop);
 
 }  // namespace odoloc::cli

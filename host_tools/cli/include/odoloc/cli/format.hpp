@@ -14,6 +14,11 @@
 
 namespace odoloc::cli {
 
+// One JSON Lines record of `doc`, on one line: control characters escaped
+// (\u001b), and bytes that are not well-formed UTF-8 (a name from a file or
+// a log may hold any) replaced by U+FFFD instead of failing the command.
+[[nodiscard]] std::string json_line(const nlohmann::json& doc);
+
 [[nodiscard]] std::string_view access_name(regs::Access access);
 // "31:16", or "0" for a one-bit field.
 [[nodiscard]] std::string bit_range(const regs::Field& field);

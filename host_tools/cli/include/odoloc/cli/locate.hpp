@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <atomic>
 #include <cstdint>
 #include <iosfwd>
 #include <nlohmann/json.hpp>
@@ -51,10 +52,12 @@ struct CycleFix {
 // One fix per cycle, in the cycles' order. The temperature (the command's,
 // else the layout's) sets the speed of sound the solvers assume; the
 // previous valid fix is the next start point (kleeman) and decides between
-// mirror solutions (gauss-newton with three beacons).
+// mirror solutions (gauss-newton with three beacons). Interrupted when
+// `stop` is set (checked before each cycle).
 [[nodiscard]] std::vector<CycleFix> locate_fixes(const LocateLayout& layout,
                                                  std::span<const ArrivalCycle> cycles,
-                                                 const LocateCommand& command);
+                                                 const LocateCommand& command,
+                                                 const std::atomic<bool>* stop = nullptr);
 
 // One JSON object: the whole Fix, beacons by id.
 [[nodiscard]] nlohmann::json fix_json(const CycleFix& fix, const LocateLayout& layout);
@@ -75,12 +78,17 @@ inline constexpr int kLocatePlotWidth = 1000;
 inline constexpr int kLocatePlotHeight = 800;
 
 // The gnuplot script drawing beacons, valid fixes and their 2-sigma
-// ellipses into `output` (the terminal from its extension, .png or .svg).
+// ellipses (the terminal from `output`'s extension, .png or .svg) into the
+// variable `picture`, by default `output`'s file name
+// (process::gnuplot_output).
 [[nodiscard]] std::string plot_script(std::span<const CycleFix> fixes, const LocateLayout& layout,
                                       const std::string& output);
 
 // Reads the files, solves, prints (text, or one JSON object per line per
-// cycle), then plots; FileError when gnuplot does not draw the picture.
-void run_locate(const LocateCommand& command, std::ostream& out, bool json);
+// cycle), then plots (process::draw_with_gnuplot: the picture is an
+// output::OutputFile); FileError when gnuplot does not draw the picture,
+// Interrupted when `stop` is set.
+void run_locate(const LocateCommand& command, std::ostream& out, bool json,
+                const std::atomic<bool>* stop);
 
 }  // namespace odoloc::cli

@@ -4,6 +4,7 @@
 // gnuplot, and a summary per source. No target: it reads a file only.
 #pragma once
 
+#include <atomic>
 #include <iosfwd>
 #include <string>
 #include <string_view>
@@ -25,7 +26,9 @@ struct PlotCommand {
 // object after drawing), then draws the picture and says where it is. A log
 // that is missing or not a log, or a picture that would replace it, is a
 // UsageError; a script that cannot be written or gnuplot missing or failing
-// is a FileError.
-void run_plot(const PlotCommand& command, std::ostream& out, bool json);
+// is a FileError; Interrupted when `stop` is set while gnuplot draws
+// (nothing is written).
+void run_plot(const PlotCommand& command, std::ostream& out, bool json,
+              const std::atomic<bool>* stop);
 
 }  // namespace odoloc::cli

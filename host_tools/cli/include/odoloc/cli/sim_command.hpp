@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <iosfwd>
+#include <optional>
 #include <string>
 
 namespace odoloc::cli {
@@ -18,9 +19,12 @@ struct SimCommand {
   std::size_t laps = 2;
   double speed_mps = 0.5;
   std::uint64_t seed = 1;
-  double duration_s = 0;  // > 0: stop after this much simulated time (the table then covers it)
+  // Given: stop after this much simulated time, (0, 10000] s (the table
+  // then covers it); none: the whole tour.
+  std::optional<double> duration_s;
   // Non-empty: write DIR/odoloc.lcmlog (an LCM event log), DIR/trajectories.csv,
-  // DIR/fixes.csv and DIR/localisation.png (unless no_plot).
+  // DIR/fixes.csv and DIR/localisation.png (unless no_plot), all at the end
+  // (nothing when the run fails or is interrupted).
   std::string out;
   // Publish live here (the register bridge listens there too). Empty: the
   // default URL when there is no --out, else nothing live.
@@ -35,8 +39,7 @@ struct SimCommand {
 // Runs the tour; prints what it runs, then the table (with `json`, one JSON
 // object: the table and the run's figures). UsageError for bad options or an
 // LCM URL that cannot be opened; FileError when an output cannot be written
-// or the plot fails; Interrupted when `stop` is set (the files written so
-// far are closed).
+// or the plot fails; Interrupted when `stop` is set (no file is written).
 void run_sim(const SimCommand& command, std::ostream& out, bool json,
              const std::atomic<bool>* stop);
 

@@ -36,7 +36,10 @@ void run_sweep_run(const SweepRunCommand& command, std::ostream& out, bool json,
                    const std::atomic<bool>* stop);
 
 // Reads and checks the shard files, writes the folder, then one line (or
-// JSON object) listing the files written. Errors as run_sweep_run's.
-void run_sweep_merge(const SweepMergeCommand& command, std::ostream& out, bool json);
+// JSON object) listing the files written. Errors as run_sweep_run's;
+// Interrupted when `stop` is set (between shard files, while gnuplot runs:
+// nothing is written).
+void run_sweep_merge(const SweepMergeCommand& command, std::ostream& out, bool json,
+                     const std::atomic<bool>* stop);
 
 }  // namespace odoloc::cli

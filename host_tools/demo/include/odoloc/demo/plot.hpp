@@ -25,8 +25,9 @@ inline constexpr int kPlotHeight = 650;
 // Writes `dir`/trajectories.gp: two panels (trajectories with the ground truth
 // in columns 2:3, position error over time in column 1) of `dir`/`csv_name`
 // into `dir`/`png_name`. Every path in the script is relative to `dir`, so
-// `cd dir && gnuplot trajectories.gp` works. Throws std::runtime_error when
-// the script cannot be written.
+// `cd dir && gnuplot trajectories.gp` works; every name in it is a
+// process::gnuplot_string. Throws output::OutputError when the script
+// cannot be written (output::write_file).
 std::filesystem::path write_plot_script(const std::filesystem::path& dir,
                                         const std::string& csv_name, const std::string& png_name,
                                         const std::string& title,

@@ -14,6 +14,7 @@
 // (ap_int.h, ac_int.h) and the C/C++ standard library.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -59,8 +60,13 @@ struct ExportedTree {
 };
 
 // Writes every tree into a staging folder first and moves each into place
-// only when all are complete. Throws ExportError.
-std::vector<ExportedTree> export_hls(const ExportRequest& request);
+// only when all are complete. OUT may be a symbolic link to a folder (the
+// trees go into the folder); a link to nothing, and with `force` a kernel's
+// folder in OUT that is a link, are refused (replacing them would lose the
+// link). Throws ExportError; process::Interrupted when `stop` is set
+// (checked before each kernel and each file): OUT is then as it was.
+std::vector<ExportedTree> export_hls(const ExportRequest& request,
+                                     const std::atomic<bool>* stop = nullptr);
 
 // The source under this key (embedded.hpp) with every "odoloc/..." include
 // it makes inlined, each file once, in include order. Throws ExportError for

@@ -10,6 +10,7 @@
 // A log without truth has no errors: the picture is then panel (a) alone.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <filesystem>
 #include <string>
@@ -37,30 +38,36 @@ inline constexpr std::size_t kEllipsePoints = 49;
 // fused sample and then of each first sample at least `ellipse_every_s`
 // seconds after the last one chosen; a fix has its own. An ellipse needs a
 // finite, positive semi-definite position covariance with positive xx
-// variance, or it is left out (the sample stays chosen). `png_name` is the output as gnuplot opens
-// it (relative to the directory gnuplot runs in). Throws PlotError (usage) when `ellipse_every_s`
+// variance, or it is left out (the sample stays chosen). The picture goes
+// to the gnuplot variable `picture`, by default `png_name`
+// (process::gnuplot_output); every name in the script is a
+// process::gnuplot_string. Throws PlotError (usage) when `ellipse_every_s`
 // is not a positive finite number.
 [[nodiscard]] std::string plot_script(const LogSeries& series, const std::string& png_name,
                                       double ellipse_every_s);
 
 struct DrawOptions {
-  std::filesystem::path png;     // the picture to write (replaced)
+  // The picture to write: an output::OutputFile (a file is replaced whole,
+  // a device or FIFO written to, a symbolic link followed).
+  std::filesystem::path png;
   double ellipse_every_s = 1.0;  // s, > 0
   // Keep the script next to the picture (png with extension .gp), to edit
   // and run again (`cd DIR && gnuplot NAME.gp`); else it is a temporary file.
   bool keep_script = false;
+  const std::atomic<bool>* stop = nullptr;  // set: gnuplot is ended, nothing written
 };
 
 // `log` with its extension replaced by .png ("run.lcmlog" → "run.png").
 [[nodiscard]] std::filesystem::path default_png(const std::filesystem::path& log);
 
-// Writes the script and runs gnuplot in the picture's directory. Returns the
-// kept script's path, or an empty path. Throws PlotError: usage when the
-// ellipse period is bad, the picture's folder does not exist or the picture
-// would replace the log itself;
-// otherwise when the script cannot be written, gnuplot cannot be run
-// ("install gnuplot-nox") or does not draw the picture (its message on one
-// line; a partial picture is removed).
+// Draws the picture with gnuplot in a private staging folder and delivers
+// it (process::draw_with_gnuplot). Returns the kept script's path, or an
+// empty path. Throws PlotError: usage when the ellipse period is bad, the
+// picture cannot be written there (a folder, a missing folder, a link to
+// nothing) or would replace the log itself; otherwise when an output cannot
+// be written, gnuplot cannot be run ("install gnuplot-nox") or does not
+// draw the picture (its message on one line; nothing is written).
+// process::Interrupted when `stop` was set.
 std::filesystem::path draw(const LogSeries& series, const DrawOptions& options);
 
 }  // namespace odoloc::plot

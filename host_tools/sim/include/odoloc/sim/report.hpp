@@ -34,7 +34,7 @@ struct SourceErrors {
   double final_heading_rad = 0;  // wrapped; 0 for a source without heading
   double rms_position_m = 0;
   double rms_heading_rad = 0;
-  double return_to_start_m = 0;  // |p_last - p_start|
+  double return_to_start_m = 0;  // |p_last - p_start|; NaN: the run was cut short
   bool has_heading = true;
 };
 
@@ -46,6 +46,9 @@ class ErrorReport {
   void add(Source source, const world::Pose& truth, const world::Pose& estimate,
            bool has_heading = true);
   [[nodiscard]] SourceErrors errors(Source source) const;
+  // The run stopped before the tour's end (--duration): the robot is not
+  // back at the start, so no source has a return-to-start error (NaN, "-").
+  void cut_short() { returns_to_start_ = false; }
   // The table as text: one row per source with samples, in kAllSources
   // order; millimetres and degrees.
   [[nodiscard]] std::string table() const;
@@ -58,6 +61,7 @@ class ErrorReport {
     bool has_heading = true;
   };
   world::Pose start_;
+  bool returns_to_start_ = true;
   std::array<Sums, kSources> sums_{};
 };
 

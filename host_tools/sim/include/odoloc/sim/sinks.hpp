@@ -39,6 +39,8 @@ class ErrorSink final : public FrameSink {
  public:
   explicit ErrorSink(const world::Pose& start) : report_(start) {}
   void frame(const Frame& frame, LocalisationSystem& system) override;
+  // A run cut short (LocalisationSystem::cut_short) has no return to start.
+  void finish(LocalisationSystem& system) override;
   [[nodiscard]] const ErrorReport& report() const { return report_; }
 
  private:

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <future>
 #include <memory>
@@ -38,6 +39,9 @@ struct SystemOptions {
   // false: Kleeman's beacons only initialise the filter; then Liu's base
   // station alone corrects the odometry (sw::LocaliserConfig).
   bool fuse_beacon_ranges = true;
+  // Set meanwhile (a signal): the reference runs end early, so that the
+  // caller, which polls the same flag, is not kept waiting for them.
+  const std::atomic<bool>* stop = nullptr;
 };
 
 // One encoder module as read (eppm.count, eppm.speed, eppm.status).

@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "odoloc/output/output_file.hpp"
+
 namespace odoloc::sweep {
 
 // What went wrong, in one line that names the file and, where there is one,
@@ -20,5 +22,16 @@ class SweepError : public std::runtime_error {
  private:
   bool usage_;
 };
+
+// Runs `body`, turning the output layer's errors (output::OutputError: a
+// path that cannot be written, a write that failed) into SweepError.
+template <class F>
+auto writing(F&& body) {
+  try {
+    return body();
+  } catch (const output::OutputError& e) {
+    throw SweepError(e.usage(), e.what());
+  }
+}
 
 }  // namespace odoloc::sweep

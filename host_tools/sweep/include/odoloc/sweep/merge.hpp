@@ -2,6 +2,7 @@
 // into one table, a summary per point and plots.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <span>
@@ -54,12 +55,17 @@ struct Statistics {
 // The pictures plot_script draws.
 [[nodiscard]] std::vector<std::string> plot_files(const Spec& spec);
 
-// Writes the four files into `dir` (created when absent; its parent must
-// exist), each whole or not at all, then with `draw` runs gnuplot on
-// plots.gp there. Returns the paths written. Throws SweepError: usage when
-// `dir` cannot be created or written; otherwise a failed write, or gnuplot
-// missing or failing (its pictures are removed).
+// Writes the four files and, with `draw`, the pictures gnuplot draws from
+// plots.gp into `dir` (an output::OutputFolder: created when absent, its
+// parent must exist). Everything is made in a staging folder in `dir` first
+// and each file then delivered as an output::OutputFile (whole; a device or
+// FIFO written to, a symbolic link followed). Returns the paths written.
+// Throws SweepError: usage when `dir` or a file in it cannot be written;
+// otherwise a failed write, or gnuplot missing or failing; process::
+// Interrupted when `stop` is set while gnuplot runs. Nothing is delivered
+// then.
 std::vector<std::filesystem::path> write_merged(const MergedSweep& sweep,
-                                                const std::filesystem::path& dir, bool draw);
+                                                const std::filesystem::path& dir, bool draw,
+                                                const std::atomic<bool>* stop = nullptr);
 
 }  // namespace odoloc::sweep
