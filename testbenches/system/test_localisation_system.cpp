@@ -76,11 +76,27 @@ TEST(LocalisationSystem, FusedEstimateBeatsEverySourceOnTheRoomTour) {
   double max_fused_error = 0;
   std::array<double, 3> per_state{};  // normalised squared error per state
   StationCheck station;
+  std::size_t cycles = 0, ambiguous = 0;
   while (!system.done()) {
     const sim::Frame f = system.step();
     errors.frame(f, system);
     for (const sw::StationUpdate& u : f.soc.station)
       station.add(system, u);
+    // A cycle two beacon sets explain is never fused; only such a cycle is
+    // marked so.
+    for (const sw::CycleResult& c : f.soc.cycles) {
+      ++cycles;
+      const bool refused = c.fix.reason == sw::locate::NoFixReason::kAmbiguousBeaconSets;
+      ambiguous += refused ? 1 : 0;
+      if (c.fused == sw::fuse::Outcome::kAmbiguous) {
+        EXPECT_TRUE(refused) << c.time_s;
+      }
+      if (refused) {
+        EXPECT_TRUE(c.fused == sw::fuse::Outcome::kAmbiguous ||
+                    c.fused == sw::fuse::Outcome::kNotInitialised)
+            << c.time_s;
+      }
+    }
     if (!f.soc.estimate.initialised)
       continue;
     const double n = nees(f);
@@ -95,6 +111,7 @@ TEST(LocalisationSystem, FusedEstimateBeatsEverySourceOnTheRoomTour) {
   }
   const sim::ErrorReport& report = errors.report();
   std::printf("%s", report.table().c_str());
+  std::printf("beacon cycles: %zu, refused as ambiguous (not fused): %zu\n", cycles, ambiguous);
   const double mean_nees = nees_sum / static_cast<double>(nees_n);
   const auto n = static_cast<double>(nees_n);
   std::printf("fused: e_i^2 / P_ii on average %.2f (x), %.2f (y), %.2f (heading)\n",

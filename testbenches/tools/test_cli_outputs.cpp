@@ -167,6 +167,8 @@ class SimulatedRun : public ::testing::Test {
     fs::create_directory(*dir_ / "run");
     std::ofstream(*dir_ / "elsewhere.csv") << "old";
     fs::create_symlink("../elsewhere.csv", *dir_ / "run" / "trajectories.csv");
+    // The picture to a private null device, where there is CAP_MKNOD.
+    device_ = new bool(!null_device(*dir_ / "run", "localisation.png").empty());
     FifoReader fixes(make_fifo(*dir_ / "run" / "fixes.csv"));
     const ChildResult r = run_in(*dir_, {"sim", "--duration", "2", "--out", "run"});
     fixes_ = new std::string(fixes.received());
@@ -176,11 +178,14 @@ class SimulatedRun : public ::testing::Test {
     delete dir_;
     delete fixes_;
     delete result_;
+    delete device_;
   }
   static fs::path* dir_;
   static std::string* fixes_;
   static ChildResult* result_;
+  static bool* device_;
 };
+bool* SimulatedRun::device_ = nullptr;
 fs::path* SimulatedRun::dir_ = nullptr;
 std::string* SimulatedRun::fixes_ = nullptr;
 ChildResult* SimulatedRun::result_ = nullptr;
@@ -192,6 +197,9 @@ TEST_F(SimulatedRun, SimWritesThroughTheLinkAndTheFifoInItsFolder) {
   EXPECT_TRUE(slurp(*dir_ / "elsewhere.csv").starts_with("time_s,")) << "the link's file";
   EXPECT_TRUE(is_kind(run / "fixes.csv", S_IFIFO));
   EXPECT_TRUE(fixes_->starts_with("time_s,")) << *fixes_;
+  if (*device_) {
+    EXPECT_TRUE(is_kind(run / "localisation.png", S_IFCHR));
+  }
   EXPECT_EQ(entries(run), (std::vector<std::string>{"fixes.csv", "localisation.png",
                                                     "odoloc.lcmlog", "trajectories.csv"}));
 }
@@ -303,12 +311,16 @@ TEST(CommandOutputs, MergeAndExportFollowLinksAndNeverReplaceThem) {
   std::ofstream(dir / "summary.md") << "old";
   fs::create_symlink("../summary.md", dir / "merged" / "summary.md");
   FifoReader jobs(make_fifo(dir / "merged" / "jobs.csv"));
+  const fs::path points = null_device(dir / "merged", "points.csv");
   const ChildResult merged = run_in(dir, {"sweep", "merge", "r.jsonl", "--out", "merged"});
   EXPECT_EQ(merged.code, 0) << merged.err;
   EXPECT_TRUE(jobs.received().starts_with("job,")) << "the FIFO's content";
   EXPECT_TRUE(is_kind(dir / "merged" / "summary.md", S_IFLNK));
   EXPECT_TRUE(slurp(dir / "summary.md").starts_with("# Sweep small"));
   EXPECT_TRUE(is_kind(dir / "merged" / "jobs.csv", S_IFIFO));
+  if (!points.empty()) {
+    EXPECT_TRUE(is_kind(points, S_IFCHR));
+  }
 
   // export-hls: OUT a link to a folder is followed; a link to nothing, or a
   // kernel's folder that is a link, is refused.
@@ -410,6 +422,21 @@ TEST(CommandSignals, ExportSimAndLocateEndWithoutTheirFiles) {
        "arrivals.csv", "--plot", "fixes.png"},
       SIGTERM, [] { return false; }, std::chrono::milliseconds{700});
   EXPECT_EQ(entries(locate), std::vector<std::string>{"arrivals.csv"});
+}
+
+TEST(CommandSignals, WaitWatchAndWatchPoseEndWithTheSignalsStatus) {
+  const fs::path dir = fresh_dir("signals", "watch");
+  const auto after = [](int ms) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds{ms};
+    return [until] { return std::chrono::steady_clock::now() > until; };
+  };
+  interrupted(dir, {"-t", "sim:straight", "--cycle-step", "wait", "9s"}, SIGTERM, after(300));
+  interrupted(dir,
+              {"-t", "sim:straight", "--cycle-step", "reg", "watch", "top.id", "--interval", "9s"},
+              SIGHUP, after(300));
+  // memq:// in another process hears nothing: it waits until the signal.
+  interrupted(dir, {"watch", "pose", "--lcm-url", "memq://"}, SIGTERM, after(300));
+  EXPECT_TRUE(entries(dir).empty());
 }
 
 // A FIFO nobody reads: the command waits in its open at the very end, with
