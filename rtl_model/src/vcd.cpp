@@ -104,7 +104,9 @@ void VcdWriter::end_declarations() {
        << "$var wire 1 " << kClkId << " clk $end\n"
        << definitions_ << "$upscope $end\n"
        << "$enddefinitions $end\n"
-       << "$dumpvars\n0" << kClkId << '\n';
+       // The initial values belong to time 0: readers drop value changes
+       // before the first timestamp (GTKWave's vcd2fst does).
+       << "#0\n$dumpvars\n0" << kClkId << '\n';
   for (std::size_t i = 0; i < ids_.size(); ++i) {
     write_value(i, last_values_[i]);
   }
@@ -125,8 +127,12 @@ void VcdWriter::begin_sample(std::uint64_t cycle) {
     throw std::logic_error("VcdWriter::sample: cycle " + std::to_string(cycle) +
                            " overflows the time in ns");
   }
+  // Cycle 0's rising edge is at the initial values' #0, which is written.
+  if (last_cycle_ || cycle != 0) {
+    out_ << '#' << cycle * kFabricClockPeriodNs << '\n';
+  }
   last_cycle_ = cycle;
-  out_ << '#' << cycle * kFabricClockPeriodNs << "\n1" << kClkId << '\n';
+  out_ << '1' << kClkId << '\n';
 }
 
 void VcdWriter::record_change(std::size_t index, std::uint64_t bits) {

@@ -3,11 +3,13 @@
 // to reject broken files, and vcd2fst (GTKWave) must accept the output.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -104,7 +106,7 @@ TEST(VcdWriter, HeaderHasTheFixedParts) {
   EXPECT_NE(text.find("$version\n"), std::string::npos);
   EXPECT_NE(text.find("\n$timescale 1ns $end\n"), std::string::npos);
   EXPECT_NE(text.find("\n$scope module odoloc $end\n"), std::string::npos);
-  EXPECT_NE(text.find("\n$enddefinitions $end\n$dumpvars\n"), std::string::npos);
+  EXPECT_NE(text.find("\n$enddefinitions $end\n#0\n$dumpvars\n"), std::string::npos);
 }
 
 TEST(VcdWriter, TopScopeIsConfigurable) {
@@ -308,11 +310,11 @@ $var wire 4 " count $end
 $upscope $end
 $upscope $end
 $enddefinitions $end
+#0
 $dumpvars
 0!
 b0 "
 $end
-#0
 1!
 b101 "
 #10
@@ -356,6 +358,7 @@ TEST(VcdCheck, RejectsBrokenText) {
       {"$enddefinitions $end\n", "", "missing $enddefinitions"},
       {"$dumpvars\n0!\nb0 \"\n$end\n", "0!\nb0 \"\n", "missing $dumpvars"},
       {"b101 \"", "b1x2 \"", "bad vector value"},
+      {"$enddefinitions $end\n#0\n", "$enddefinitions $end\n", "before the first timestamp"},
   };
   for (const auto& edit : edits) {
     const auto vcd = check_edited(edit.from, edit.to);
@@ -365,21 +368,79 @@ TEST(VcdCheck, RejectsBrokenText) {
   }
 }
 
-// GTKWave's converter as an outside opinion on the format.
-TEST(VcdWriter, Vcd2FstAcceptsTheOutput) {
+// A var's waveform as a viewer shows it: per time, the last value written
+// then, as a number (x/z bits: nullopt); repeats of the same value dropped.
+using Waveform = std::vector<std::pair<std::uint64_t, std::optional<std::uint64_t>>>;
+
+Waveform waveform_of(const VcdCheckResult& vcd, std::size_t var) {
+  Waveform wave;
+  for (const auto& change : vcd.history[var]) {
+    std::optional<std::uint64_t> value = 0;
+    for (const char c : change.bits) {
+      if (c != '0' && c != '1') {
+        value.reset();
+        break;
+      }
+      *value = (*value << 1) | (c == '1' ? 1U : 0U);
+    }
+    if (!wave.empty() && wave.back().first == change.time)
+      wave.pop_back();
+    if (wave.empty() || wave.back().second != value)
+      wave.emplace_back(change.time, value);
+  }
+  return wave;
+}
+
+// fst2vcd names a vector "count [3:0]": the name without the range.
+std::string without_range(const std::string& name) {
+  const auto bracket = name.find('[');
+  return bracket == std::string::npos ? name : name.substr(0, bracket);
+}
+
+// GTKWave's own reader as an outside opinion: vcd2fst then fst2vcd must give
+// back every value change of every signal, the initial values at time 0
+// included (they were lost while $dumpvars came before the first #0).
+TEST(VcdWriter, Vcd2FstRoundTripKeepsEveryValueChange) {
   const std::filesystem::path dir = testing::TempDir();
-  if (!odoloc::process::run_program("vcd2fst", {"--help"}, dir).launched) {
-    GTEST_SKIP() << "vcd2fst (Debian package gtkwave) not on PATH";
+  if (!odoloc::process::run_program("vcd2fst", {"--help"}, dir).launched ||
+      !odoloc::process::run_program("fst2vcd", {"--help"}, dir).launched) {
+    GTEST_SKIP() << "vcd2fst/fst2vcd (Debian package gtkwave) not on PATH";
   }
   const auto vcd_path = dir / "odoloc_test_vcd.vcd";
   const auto fst_path = dir / "odoloc_test_vcd.fst";
-  std::ofstream(vcd_path) << run_demo(40);
+  const auto back_path = dir / "odoloc_test_vcd_back.vcd";
+  const std::string written = run_demo(40);
+  std::ofstream(vcd_path) << written;
   const auto converted =
       odoloc::process::run_program("vcd2fst", {vcd_path.string(), fst_path.string()}, dir);
-  EXPECT_TRUE(converted.ok()) << converted.message;
-  EXPECT_GT(std::filesystem::file_size(fst_path), 0U);
-  std::filesystem::remove(vcd_path);
-  std::filesystem::remove(fst_path);
+  ASSERT_TRUE(converted.ok()) << converted.message;
+  const auto back = odoloc::process::run_program(
+      "fst2vcd", {"-f", fst_path.string(), "-o", back_path.string()}, dir);
+  ASSERT_TRUE(back.ok()) << back.message;
+  std::ifstream back_file(back_path);
+  const auto theirs = check_vcd(back_file);
+  for (const auto& path : {vcd_path, fst_path, back_path})
+    std::filesystem::remove(path);
+
+  const auto ours = check_vcd(written);
+  ASSERT_TRUE(ours.ok()) << ours.error_text();
+  ASSERT_EQ(theirs.vars.size(), ours.vars.size()) << theirs.error_text();
+  std::size_t changes = 0;
+  for (std::size_t i = 0; i < ours.vars.size(); ++i) {
+    const auto& name = ours.vars[i].name;
+    const auto match = std::find_if(theirs.vars.begin(), theirs.vars.end(),
+                                    [&](const auto& v) { return without_range(v.name) == name; });
+    ASSERT_NE(match, theirs.vars.end()) << name << " is missing after the round trip";
+    const Waveform expected = waveform_of(ours, i);
+    EXPECT_EQ(waveform_of(theirs, static_cast<std::size_t>(match - theirs.vars.begin())), expected)
+        << name;
+    ASSERT_FALSE(expected.empty());
+    EXPECT_EQ(expected.front(),
+              (std::pair{std::uint64_t{0}, std::optional<std::uint64_t>{expected.front().second}}))
+        << name << " has no value at time 0";
+    changes += expected.size();
+  }
+  EXPECT_GT(changes, 80U);  // clk alone toggles 80 times
 }
 
 }  // namespace

@@ -12,7 +12,8 @@
 //
 // Checked: $date, $version, $timescale (1ns) and $enddefinitions present;
 // scopes balanced; each $var has a positive width and a unique id; $dumpvars
-// gives every var a value; timestamps strictly increase; each value change
+// gives every var a value; no value change before the first timestamp
+// (GTKWave's vcd2fst drops those); timestamps strictly increase; each value change
 // names a declared id, a vector fits the declared width, scalars only on 1-bit
 // vars.
 #pragma once
@@ -239,6 +240,8 @@ inline VcdCheckResult check_vcd(std::istream& in) {
       error(std::to_string(bits.size()) + " bits for " + std::to_string(var.width) + "-bit " +
             var.name);
     }
+    if (!time)
+      error("value change for " + var.name + " before the first timestamp (readers drop it)");
     if (open_block == "$dumpvars")
       initialised[it->second] = true;
     r.history[it->second].push_back({time.value_or(0), std::string(bits)});
