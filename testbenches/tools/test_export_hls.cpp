@@ -1,12 +1,13 @@
 // `odoloc export-hls` end to end: the real binary writes every kernel's tree
 // into a temporary folder; each tree alone (no include path but the vendor's)
-// is built with g++ -std=c++14 against the project's own types and, where
-// ../shared/vendor has them, ap_int.h and ac_int.h, and its testbench must
-// pass on the golden vectors. Then the bad requests: each gets a clear
-// message and leaves the file system as it was.
+// is built with the g++ lines docs/hls.md documents, against the project's
+// own types and, where ../shared/vendor has them, ap_int.h and ac_int.h, and
+// its testbench must pass on the golden vectors. Without
+// -Wno-unknown-pragmas those builds fail on the HLS pragmas and on nothing
+// else. Then the bad requests: each gets a clear message and leaves the file
+// system as it was. (hls_config.cfg: test_export_hls_config.)
 #include <fmt/format.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -16,66 +17,27 @@
 #include <string>
 #include <vector>
 
+#include "export_hls_support.hpp"
 #include "odoloc/hls_export/reference.hpp"
 #include "odoloc/process/run_program.hpp"
+#include "scratch_files.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 using odoloc::process::run_program;
 using odoloc::process::run_shell;
-
-// Per process (builds in other folders may run this test at the same time),
-// removed when the tests end.
-fs::path scratch() {
-  return fs::path(::testing::TempDir()) / fmt::format("odoloc_export_{}", ::getpid());
-}
-class RemoveScratch : public ::testing::Environment {
- public:
-  void TearDown() override { fs::remove_all(scratch()); }
-};
-const auto* const kRemoveScratch = ::testing::AddGlobalTestEnvironment(new RemoveScratch);
-
-fs::path fresh_folder(const std::string& name) {
-  const fs::path folder = scratch() / name;
-  fs::remove_all(folder);
-  fs::create_directories(folder);
-  return folder;
-}
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using odoloc::tb::slurp;
+using odoloc::tb::export_hls::documented_host_build;
+using odoloc::tb::export_hls::documented_host_builds;
+using odoloc::tb::export_hls::families;
+using odoloc::tb::export_hls::Family;
+using odoloc::tb::export_hls::fresh_folder;
+using odoloc::tb::export_hls::odoloc_cli;
 
 std::set<std::string> entries(const fs::path& folder) {
-  std::set<std::string> names;
-  for (const auto& entry : fs::directory_iterator(folder))
-    names.insert(entry.path().filename().string());
-  return names;
-}
-
-odoloc::process::ProgramResult odoloc_cli(const std::vector<std::string>& args,
-                                          const fs::path& dir) {
-  return run_program(ODOLOC_CLI, args, dir);
-}
-
-struct Family {
-  const char* name;
-  int value;
-  std::string include;  // empty: the project's own types
-};
-
-std::vector<Family> families() {
-  std::vector<Family> list{{"own", 0, ""}};
-  const fs::path vendor = ODOLOC_VENDOR_DIR;
-  if (fs::exists(vendor / "ap_types/include/ap_int.h"))
-    list.push_back({"ap", 1, (vendor / "ap_types/include").string()});
-  if (fs::exists(vendor / "ac_types/include/ac_int.h"))
-    list.push_back({"ac", 2, (vendor / "ac_types/include").string()});
-  return list;
+  const std::vector<std::string> names = odoloc::tb::entries(folder);
+  return {names.begin(), names.end()};
 }
 
 // Every #include of the tree's sources names a file of the tree, the
@@ -90,7 +52,7 @@ void expect_self_contained(const fs::path& tree) {
     });
   };
   for (const char* file : {"kernel.h", "kernel.cpp", "kernel_test.cpp"}) {
-    std::istringstream lines(read_text(tree / file));
+    std::istringstream lines(slurp(tree / file));
     for (std::string line; std::getline(lines, line);) {
       std::istringstream words(line);
       std::string hash, include;
@@ -124,40 +86,95 @@ TEST(ExportHls, EveryTreeBuildsAloneAndPassesItsTestbenchInEveryTypeFamily) {
   EXPECT_EQ(entries(out).size(), kernels.size());  // one folder per kernel, no staging left
   for (const auto& kernel : kernels) {
     const fs::path tree = out / std::string(kernel.name);
-    EXPECT_EQ(entries(tree),
-              (std::set<std::string>{"kernel.h", "kernel.cpp", "kernel_test.cpp",
-                                     "golden_vectors.txt", "run_hls.tcl", "README.md"}))
+    EXPECT_EQ(entries(tree), (std::set<std::string>{"kernel.h", "kernel.cpp", "kernel_test.cpp",
+                                                    "golden_vectors.txt", "run_hls.tcl",
+                                                    "hls_config.cfg", "README.md"}))
         << tree;
     expect_self_contained(tree);
-    const std::string tcl = read_text(tree / "run_hls.tcl");
+    const std::string tcl = slurp(tree / "run_hls.tcl");
     for (const std::string& command : std::vector<std::string>{
              "open_project", "open_solution", "add_files kernel.cpp",
              "add_files -tb kernel_test.cpp", "add_files -tb golden_vectors.txt",
              fmt::format("set_top {}", kernel.top), "set_part", "create_clock -period 20",
              "csim_design", "csynth_design", "cosim_design", "export_design"})
       EXPECT_NE(tcl.find(command), std::string::npos) << kernel.name << ": " << command;
+    // The tree's README shows the builds docs/hls.md shows.
+    const std::string readme = slurp(tree / "README.md");
+    for (const std::string& line : documented_host_builds())
+      EXPECT_NE(readme.find(line + "\n"), std::string::npos) << kernel.name << ": " << line;
     for (const Family& family : families()) {
-      const std::string binary = fmt::format("kernel_test_{}", family.name);
-      // GCC 12 -O2 reports a false uninitialised use inside Xilinx's ap_private.h
-      // (docs/hls.md), hence the two -Wno- for the vendor families.
-      const std::string vendor =
-          family.include.empty()
-              ? ""
-              : fmt::format("-isystem '{}' -Wno-uninitialized -Wno-maybe-uninitialized",
-                            family.include);
-      const auto build =
-          run_shell(fmt::format("g++ -std=c++14 -pedantic-errors -Wall -Wextra -Werror "
-                                "-Wno-unknown-pragmas -O2 -DODOLOC_HLS_TYPES={} {} kernel.cpp "
-                                "kernel_test.cpp -o {}",
-                                family.value, vendor, binary),
-                    tree);
-      ASSERT_TRUE(build.ok()) << kernel.name << " (" << family.name << "): " << build.message;
-      const auto test = run_program((tree / binary).string(), {"golden_vectors.txt"}, tree);
+      const std::string build_line = documented_host_build(family);
+      const auto build = run_shell(build_line, tree);
+      ASSERT_TRUE(build.ok()) << kernel.name << ": " << build_line << ": " << build.message;
+      const auto test = run_program((tree / "kernel_test").string(), {"golden_vectors.txt"}, tree);
       EXPECT_TRUE(test.ok()) << kernel.name << " (" << family.name << "): " << test.message;
       EXPECT_NE(test.message.find(fmt::format("PASS: {} calls", kernel.golden_calls)),
                 std::string::npos)
           << test.message;
+      fs::remove(tree / "kernel_test");  // the next family's build must make its own
     }
+  }
+}
+
+TEST(ExportHls, TheDocumentedBuildsAreOnePerFamily) {
+  const std::vector<std::string> lines = documented_host_builds();
+  EXPECT_EQ(lines.size(), 3U);
+  for (int value = 0; value <= 2; ++value)
+    EXPECT_EQ(std::ranges::count_if(lines,
+                                    [&](const std::string& line) {
+                                      return line.find(fmt::format("-DODOLOC_HLS_TYPES={} ",
+                                                                   value)) != std::string::npos;
+                                    }),
+              1)
+        << value;
+}
+
+// What -Wno-unknown-pragmas of the documented builds is for: without it every
+// tree fails -Werror, and every error is GCC ignoring an HLS tool's pragma
+// (`#pragma HLS ...`, and Catapult's `#pragma hls_design top`) on a line
+// that holds that pragma. The front end is enough to see it: -fsyntax-only.
+TEST(ExportHls, WithoutNoUnknownPragmasOnlyTheHlsPragmasFailTheBuild) {
+  const fs::path out = fresh_folder("pragmas") / "trees";
+  ASSERT_TRUE(odoloc_cli({"export-hls", "--out", out.string()}, out.parent_path()).ok());
+  std::string command = documented_host_build(families().front());
+  const std::string flag = " -Wno-unknown-pragmas";
+  const auto at = command.find(flag);
+  ASSERT_NE(at, std::string::npos) << command;
+  command.erase(at, flag.size());
+  command = fmt::format("LC_ALL=C {} -fsyntax-only -fdiagnostics-plain-output", command);
+  for (const auto& kernel : odoloc::hls_export::kernels()) {
+    const fs::path tree = out / std::string(kernel.name);
+    const auto build = run_shell(command, tree);
+    EXPECT_TRUE(build.launched);
+    EXPECT_NE(build.exit_status, 0) << kernel.name << ": " << command;
+    int hls_pragmas = 0;
+    std::istringstream lines(build.message);
+    for (std::string line; std::getline(lines, line);) {
+      if (line.find("error: ") == std::string::npos)
+        continue;
+      // FILE:LINE: error: ignoring '#pragma NAME ...' [-Werror=unknown-pragmas]
+      const auto colon = line.find(':');
+      const auto colon2 = line.find(':', colon + 1);
+      const auto quote = line.find("'#pragma ");
+      const auto unquote = line.find('\'', quote + 1);
+      ASSERT_TRUE(colon2 != std::string::npos && quote != std::string::npos &&
+                  unquote != std::string::npos)
+          << kernel.name << ": " << line;
+      EXPECT_TRUE(line.ends_with("[-Werror=unknown-pragmas]")) << kernel.name << ": " << line;
+      const std::string pragma = line.substr(quote + 1, unquote - quote - 1);
+      EXPECT_TRUE(pragma.starts_with("#pragma HLS ") || pragma == "#pragma hls_design top")
+          << kernel.name << ": " << line;
+      hls_pragmas += pragma.starts_with("#pragma HLS ") ? 1 : 0;
+      // The line GCC names holds that pragma.
+      std::istringstream source(slurp(tree / line.substr(0, colon)));
+      std::string text;
+      for (int n = std::stoi(line.substr(colon + 1, colon2 - colon - 1)); n > 0; --n)
+        std::getline(source, text);
+      const auto start = text.find_first_not_of(" \t");
+      EXPECT_TRUE(start != std::string::npos && text.compare(start, pragma.size(), pragma) == 0)
+          << kernel.name << ": " << line << " names the line '" << text << "'";
+    }
+    EXPECT_GT(hls_pragmas, 0) << kernel.name << ": " << build.message;
   }
 }
 
@@ -167,12 +184,9 @@ TEST(ExportHls, ATestbenchFailsOnAGoldenValueChanged) {
       odoloc_cli({"export-hls", "--out", out.string(), "--kernel", "cordic"}, out.parent_path())
           .ok());
   const fs::path tree = out / "cordic";
-  ASSERT_TRUE(run_shell("g++ -std=c++14 -O1 -Wno-unknown-pragmas -DODOLOC_HLS_TYPES=0 kernel.cpp "
-                        "kernel_test.cpp -o kernel_test",
-                        tree)
-                  .ok());
+  ASSERT_TRUE(run_shell(documented_host_build(families().front()), tree).ok());
   // The last column of the last row (cos) off by one.
-  std::string text = read_text(tree / "golden_vectors.txt");
+  std::string text = slurp(tree / "golden_vectors.txt");
   const auto end = text.find_last_not_of('\n');
   const auto start = text.find_last_of(' ', end) + 1;
   const long long cos = std::stoll(text.substr(start, end + 1 - start));
@@ -198,7 +212,7 @@ TEST(ExportHls, EachToolGetsItsScript) {
         odoloc_cli({"export-hls", "--out", out.string(), "--kernel", "cordic", "--tool", tool},
                    out.parent_path());
     ASSERT_TRUE(run.ok()) << run.message;
-    const std::string text = read_text(out / "cordic" / script);
+    const std::string text = slurp(out / "cordic" / script);
     for (const std::string& word : words)
       EXPECT_NE(text.find(word), std::string::npos) << tool << ": " << word;
     EXPECT_FALSE(fs::exists(out / "cordic" / "run_hls.tcl"));
@@ -247,7 +261,7 @@ TEST(ExportHls, BadRequestsAreRefusedAndWriteNothing) {
       odoloc_cli({"export-hls", "--out", out, "--kernel", "cordic", "--force"}, parent);
   ASSERT_TRUE(forced.ok()) << forced.message;
   EXPECT_EQ(entries(parent / "trees"), before);  // no staging folder left behind
-  EXPECT_EQ(read_text(parent / "trees" / "notes.txt"), "mine\n");
+  EXPECT_EQ(slurp(parent / "trees" / "notes.txt"), "mine\n");
   EXPECT_FALSE(fs::exists(parent / "trees" / "cordic" / "stale.txt"));
   EXPECT_TRUE(fs::exists(parent / "trees" / "cordic" / "kernel.h"));
   // OUT is a file.

@@ -24,7 +24,9 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr std::uint64_t kGoldenSeed = 12;
+constexpr std::string_view kGoldenVectors = "golden_vectors.txt";
 constexpr std::string_view kVitisPart = "xc7z020clg400-1";  // Zynq-7020 (PYNQ-Z2, ZedBoard)
+constexpr int kClockNs = 20;  // the 50 MHz fabric clock, in every tool's flow
 constexpr std::array kToolNames{std::string_view{"vitis"}, std::string_view{"catapult"},
                                 std::string_view{"intel"}};
 
@@ -164,24 +166,98 @@ std::string interface_text(const KernelDescription& kernel) {
   return text;
 }
 
-std::string vitis_script(const KernelDescription& kernel) {
+// The Vitis HLS project of a tree. Both flows are written from it: the
+// classic Tcl script (vitis_hls -f run_hls.tcl) and the Vitis Unified config
+// file (v++ / vitis-run --config hls_config.cfg), so they cannot drift apart.
+struct VitisProject {
+  std::string_view kernel;
+  std::string_view top;
+  std::vector<std::string_view> sources;     // synthesised
+  std::vector<std::string_view> tb_sources;  // C simulation only
+  std::vector<std::string_view> tb_data;     // read by the testbench
+  std::string_view cflags;                   // of every source, kernel and testbench
+  std::string_view tb_args;                  // C simulation and co-simulation
+  std::string_view flow_target;
+  std::string_view part;
+  int clock_ns;
+  std::string_view package_format;
+};
+
+VitisProject vitis_project(const KernelDescription& kernel) {
+  return {.kernel = kernel.name,
+          .top = kernel.top,
+          .sources = {"kernel.cpp"},
+          .tb_sources = {"kernel_test.cpp"},
+          .tb_data = {kGoldenVectors},
+          .cflags = "-std=c++14",
+          .tb_args = kGoldenVectors,
+          .flow_target = "vivado",
+          .part = kVitisPart,
+          .clock_ns = kClockNs,
+          .package_format = "ip_catalog"};
+}
+
+std::string vitis_script(const VitisProject& p) {
+  std::string files;
+  for (std::string_view file : p.sources)
+    files += fmt::format("add_files {} -cflags \"{}\"\n", file, p.cflags);
+  for (std::string_view file : p.tb_sources)
+    files += fmt::format("add_files -tb {} -cflags \"{}\"\n", file, p.cflags);
+  for (std::string_view file : p.tb_data)
+    files += fmt::format("add_files -tb {}\n", file);
   return fmt::format(
       "# Vitis HLS: vitis_hls -f run_hls.tcl   (odoloc {0} kernel, top {1})\n"
-      "# C simulation replays golden_vectors.txt; co-simulation replays it against the RTL.\n"
+      "# C simulation replays {2}; co-simulation replays it against the RTL.\n"
+      "# Vitis Unified (2023.2 and later) takes the same project from hls_config.cfg.\n"
       "open_project -reset {0}_prj\n"
       "set_top {1}\n"
-      "add_files kernel.cpp -cflags \"-std=c++14\"\n"
-      "add_files -tb kernel_test.cpp -cflags \"-std=c++14\"\n"
-      "add_files -tb golden_vectors.txt\n"
-      "open_solution -reset solution1 -flow_target vivado\n"
-      "set_part {{{2}}}\n"
-      "create_clock -period 20 -name default\n"
-      "csim_design -argv golden_vectors.txt\n"
+      "{3}"
+      "open_solution -reset solution1 -flow_target {4}\n"
+      "set_part {{{5}}}\n"
+      "create_clock -period {6} -name default\n"
+      "csim_design -argv {2}\n"
       "csynth_design\n"
-      "cosim_design -argv golden_vectors.txt\n"
-      "export_design -format ip_catalog\n"
+      "cosim_design -argv {2}\n"
+      "export_design -format {7}\n"
       "exit\n",
-      kernel.name, kernel.top, kVitisPart);
+      p.kernel, p.top, p.tb_args, files, p.flow_target, p.part, p.clock_ns, p.package_format);
+}
+
+// The Vitis Unified commands, in the order they must run: co-simulation and
+// packaging need the synthesised component in the work folder.
+std::string vitis_unified_commands(const VitisProject& p) {
+  const std::string tail = fmt::format("--config hls_config.cfg --work_dir {}_component", p.kernel);
+  return fmt::format(
+      "vitis-run --mode hls --csim {0}\n"
+      "v++ --compile --mode hls {0}\n"
+      "vitis-run --mode hls --cosim {0}\n"
+      "vitis-run --mode hls --package {0}\n",
+      tail);
+}
+
+// The layout of Xilinx's Vitis-HLS-Introductory-Examples: the part before
+// any section, the rest under [hls]; repeated keys list several files.
+// Relative paths are taken from this file's folder.
+std::string vitis_config(const VitisProject& p) {
+  std::string text = fmt::format(
+      "# Vitis Unified (2023.2 and later), odoloc {} kernel, top {}: the project of\n"
+      "# run_hls.tcl. Paths are relative to this file's folder. Run from here:\n",
+      p.kernel, p.top);
+  std::istringstream commands(vitis_unified_commands(p));
+  for (std::string line; std::getline(commands, line);)
+    text += fmt::format("#   {}\n", line);
+  text += fmt::format("part={}\n\n[hls]\nflow_target={}\nclock={}ns\nsyn.top={}\n", p.part,
+                      p.flow_target, p.clock_ns, p.top);
+  for (std::string_view file : p.sources)
+    text += fmt::format("syn.file={}\n", file);
+  text += fmt::format("syn.cflags={}\n", p.cflags);
+  for (std::string_view file : p.tb_sources)
+    text += fmt::format("tb.file={}\n", file);
+  for (std::string_view file : p.tb_data)
+    text += fmt::format("tb.file={}\n", file);
+  text += fmt::format("tb.cflags={0}\ncsim.argv={1}\ncosim.argv={1}\npackage.output.format={2}\n",
+                      p.cflags, p.tb_args, p.package_format);
+  return text;
 }
 
 std::string catapult_script(const KernelDescription& kernel) {
@@ -204,7 +280,7 @@ std::string catapult_script(const KernelDescription& kernel) {
       "solution library add mgc_Xilinx-ARTIX-7-1_beh -- -rtlsyntool Vivado -manufacturer Xilinx "
       "-family ARTIX-7 -speed -1 -part xc7a100tcsg324-1\n"
       "go libraries\n"
-      "directive set -CLOCKS {{clk {{-CLOCK_PERIOD 20.0}}}}\n"
+      "directive set -CLOCKS {{clk {{-CLOCK_PERIOD {2}.0}}}}\n"
       "go assembly\n"
       "go architect\n"
       "go allocate\n"
@@ -212,7 +288,7 @@ std::string catapult_script(const KernelDescription& kernel) {
       "flow run /SCVerify/launch_make ./scverify/Verify_orig_cxx_osci.mk {{}} SIMTOOL=osci sim\n"
       "flow run /SCVerify/launch_make ./scverify/Verify_rtl_v_msim.mk {{}} SIMTOOL=msim sim\n"
       "project save\n",
-      kernel.name, kernel.top);
+      kernel.name, kernel.top, kClockNs);
 }
 
 std::string intel_makefile(const KernelDescription& kernel) {
@@ -229,33 +305,64 @@ std::string intel_makefile(const KernelDescription& kernel) {
       "run: test-x86-64\n"
       "\t./test-x86-64 golden_vectors.txt\n\n"
       "test-fpga: $(SOURCES) kernel.h\n"
-      "\ti++ $(FLAGS) -march=$(DEVICE) --clock 20ns $(SOURCES) -o $@\n\n"
+      "\ti++ $(FLAGS) -march=$(DEVICE) --clock {2}ns $(SOURCES) -o $@\n\n"
       "fpga: test-fpga\n"
       "\t./test-fpga golden_vectors.txt\n\n"
       ".PHONY: run fpga\n",
-      kernel.name, kernel.top);
+      kernel.name, kernel.top, kClockNs);
 }
 
+// A file of the tool's flow, with its row in the README's file table.
+struct FlowFile {
+  std::string_view name;
+  std::string text;
+  std::string_view what;
+};
+
 struct ToolFiles {
-  std::string_view script_name;
-  std::string script;
-  std::string_view how;
+  std::vector<FlowFile> files;
+  std::string how;  // the README's commands
 };
 
 ToolFiles tool_files(const KernelDescription& kernel, HlsTool tool) {
   switch (tool) {
     case HlsTool::kCatapult:
-      return {"run_catapult.tcl", catapult_script(kernel),
-              "catapult -shell -file run_catapult.tcl"};
+      return {{{"run_catapult.tcl", catapult_script(kernel), "the Catapult flow"}},
+              "catapult -shell -file run_catapult.tcl\n"};
     case HlsTool::kIntel:
-      return {"Makefile", intel_makefile(kernel), "make run   # then: make fpga"};
+      return {{{"Makefile", intel_makefile(kernel), "the Intel HLS flow"}},
+              "make run   # then: make fpga\n"};
     case HlsTool::kVitis:
       break;
   }
-  return {"run_hls.tcl", vitis_script(kernel), "vitis_hls -f run_hls.tcl"};
+  const VitisProject project = vitis_project(kernel);
+  return {{{"run_hls.tcl", vitis_script(project), "the classic Vitis HLS flow (Tcl)"},
+           {"hls_config.cfg", vitis_config(project),
+            "the same project for Vitis Unified (2023.2 and later)"}},
+          "vitis_hls -f run_hls.tcl   # classic Vitis HLS\n"
+          "# Vitis Unified (2023.2 and later), from hls_config.cfg:\n" +
+              vitis_unified_commands(project)};
 }
 
-std::string readme(const KernelDescription& kernel, HlsTool tool, const ToolFiles& files) {
+// The host builds of the C simulation, one per type family, under the
+// warnings a project's CI uses. GCC knows no `#pragma HLS` (nor Catapult's
+// `#pragma hls_design`), hence -Wno-unknown-pragmas; GCC 12 -O2 reports a
+// false uninitialised use inside Xilinx's ap_private.h, hence the two
+// -Wno- of the ap_int.h line. docs/hls.md shows the same lines, and
+// test_export_hls runs them.
+constexpr std::string_view kHostBuilds =
+    "g++ -std=c++14 -pedantic-errors -Wall -Wextra -Werror -Wno-unknown-pragmas -O2 "
+    "-DODOLOC_HLS_TYPES=0 kernel.cpp kernel_test.cpp -o kernel_test\n"
+    "g++ -std=c++14 -pedantic-errors -Wall -Wextra -Werror -Wno-unknown-pragmas -O2 "
+    "-DODOLOC_HLS_TYPES=1 -isystem AP_TYPES/include -Wno-uninitialized -Wno-maybe-uninitialized "
+    "kernel.cpp kernel_test.cpp -o kernel_test\n"
+    "g++ -std=c++14 -pedantic-errors -Wall -Wextra -Werror -Wno-unknown-pragmas -O2 "
+    "-DODOLOC_HLS_TYPES=2 -isystem AC_TYPES/include kernel.cpp kernel_test.cpp -o kernel_test\n";
+
+std::string readme(const KernelDescription& kernel, HlsTool tool, const ToolFiles& flow) {
+  std::string flow_rows;
+  for (const FlowFile& file : flow.files)
+    flow_rows += fmt::format("| `{}` | {} |\n", file.name, file.what);
   return fmt::format(
       "# odoloc HLS kernel `{0}`\n\n"
       "{1}. Top function `{2}`; one call = {3}. Bit-identical to the project's cycle model\n"
@@ -269,24 +376,23 @@ std::string readme(const KernelDescription& kernel, HlsTool tool, const ToolFile
       "| `kernel_test.cpp` | C-simulation testbench: replays the golden vectors, returns 0 on "
       "success |\n"
       "| `golden_vectors.txt` | per call: the inputs, then the model's outputs |\n"
-      "| `{6}` | the {5} flow |\n\n"
+      "{6}\n"
       "## C simulation with a plain compiler\n\n"
-      "`ODOLOC_HLS_TYPES` picks the integer types: 1 Xilinx `ap_int.h`, 2 `ac_int.h`, 0 the\n"
-      "project's own (in `kernel.h`, no other header needed). Unset: the first found.\n\n"
+      "`ODOLOC_HLS_TYPES` picks the integer types: 0 the project's own (in `kernel.h`, no\n"
+      "other header needed), 1 Xilinx `ap_int.h`, 2 `ac_int.h`. Unset: the first found.\n"
+      "AP_TYPES and AC_TYPES stand for your checkouts of the vendors' type headers.\n"
+      "`-Wno-unknown-pragmas`: GCC does not know `#pragma HLS`. The ap_int.h line turns\n"
+      "off a false uninitialised-use warning of GCC 12 inside `ap_private.h`.\n\n"
       "```sh\n"
-      "c++ -std=c++14 -O2 -DODOLOC_HLS_TYPES=0 kernel.cpp kernel_test.cpp -o kernel_test\n"
-      "c++ -std=c++14 -O2 -DODOLOC_HLS_TYPES=1 -isystem AP_TYPES/include kernel.cpp "
-      "kernel_test.cpp -o kernel_test\n"
-      "c++ -std=c++14 -O2 -DODOLOC_HLS_TYPES=2 -isystem AC_TYPES/include kernel.cpp "
-      "kernel_test.cpp -o kernel_test\n"
+      "{7}"
       "./kernel_test golden_vectors.txt   # PASS: ... calls, exit status 0\n"
       "```\n\n"
       "## {5}\n\n"
-      "```sh\n{7}\n```\n\n"
+      "```sh\n{8}```\n\n"
       "## Interface (from the kernel's header)\n\n"
-      "```text\n{8}```\n",
+      "```text\n{9}```\n",
       kernel.name, kernel.summary, kernel.top, kernel.call, kernel.golden_calls, tool_name(tool),
-      files.script_name, files.how, interface_text(kernel));
+      flow_rows, kHostBuilds, flow.how, interface_text(kernel));
 }
 
 void write_file(const fs::path& path, const std::string& text) {
@@ -308,15 +414,16 @@ ExportedTree write_tree(const KernelDescription& kernel, HlsTool tool, const fs:
   fs::create_directory(folder, error);
   if (error)
     file_error(fmt::format("export-hls: cannot create {}: {}", folder.string(), error.message()));
-  const ToolFiles files = tool_files(kernel, tool);
-  const std::array<std::pair<std::string_view, std::function<std::string()>>, 6> contents{{
+  const ToolFiles flow = tool_files(kernel, tool);
+  std::vector<std::pair<std::string_view, std::function<std::string()>>> contents{
       {"kernel.h", [&] { return kernel_header(kernel); }},
       {"kernel.cpp", [&] { return kernel_source(kernel); }},
       {"kernel_test.cpp", [&] { return kernel_test(kernel); }},
-      {"golden_vectors.txt", [&] { return golden_vectors(kernel); }},
-      {files.script_name, [&] { return files.script; }},
-      {"README.md", [&] { return readme(kernel, tool, files); }},
-  }};
+      {kGoldenVectors, [&] { return golden_vectors(kernel); }},
+  };
+  for (const FlowFile& file : flow.files)
+    contents.emplace_back(file.name, [&file] { return file.text; });
+  contents.emplace_back("README.md", [&] { return readme(kernel, tool, flow); });
   ExportedTree tree{std::string(kernel.name), folder, {}, kernel.golden_calls};
   for (const auto& [name, text] : contents) {
     check_stop(stop);

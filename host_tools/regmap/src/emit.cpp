@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <sstream>
 
+#include "c_helpers.hpp"
 #include "names.hpp"
 #include "odoloc/regmap/regmap.hpp"
 #include "text.hpp"
@@ -49,6 +50,153 @@ std::string u32(std::uint32_t v, int digits = 0) {
   return "UINT32_C(" + (digits == 0 ? std::to_string(v) : hex(v, digits)) + ")";
 }
 
+// A constant of the C header in a 32- or 64-bit unsigned type.
+std::string c_constant(std::uint64_t v, bool wide) {
+  std::ostringstream s;
+  s << (wide ? "UINT64_C(0x" : "UINT32_C(0x") << std::hex << v << ")";
+  return s.str();
+}
+
+// The C99 expression for the two's complement value of the `width`-bit
+// unsigned variable `v` (uint32_t, or uint64_t when `wide`), as int32_t or
+// int64_t. Portable where int has 16 bits and without implementation-defined
+// or undefined behaviour: no signed shift, no conversion of a value that does
+// not fit (a negative value is -(its magnitude - 1) - 1, the magnitude - 1
+// being ~v's low width-1 bits), no overflow.
+std::string c_sign_extend(const std::string& v, int width, bool wide) {
+  const std::uint64_t sign = std::uint64_t{1} << (width - 1);
+  const std::string type = wide ? "int64_t" : "int32_t";
+  return "(" + v + " & " + c_constant(sign, wide) + ") != 0 ? -(" + type + ")(~" + v + " & " +
+         c_constant(sign - 1, wide) + ") - 1 : (" + type + ")" + v;
+}
+
+// The join and split helpers of a field whose bits lie in both words of a
+// `words: 2` register (or of each element of such a register array).
+void emit_c_split_field(std::ostringstream& o, const RegisterMap& map, const SplitField& s) {
+  const Block& b = *s.block;
+  const Field& f = *s.hi;
+  const bool wide = f.port_width > 32;
+  const std::string value_type =
+      std::string(f.port_signed ? "" : "u") + (wide ? "int64_t" : "int32_t");
+  const std::string raw_type = wide ? "uint64_t" : "uint32_t";
+  const std::string fn = c_split_function(map, s);
+  const std::string lo_fn = c_function(map, b, *s.lo_reg, *s.lo);
+  const std::string hi_fn = c_function(map, b, *s.hi_reg, f);
+  const std::string shift = std::to_string(f.port_shift);  // the hi slice's first bit
+  const std::string what = b.name + "." + s.hi_reg->port_name() + "." + f.name;
+  o << "/* " << what << ", all " << f.port_width << " bits" << (f.port_signed ? " (signed)" : "")
+    << ", from its slices in the words "
+    << (s.hi_reg->array.empty()
+            ? s.lo_reg->name + " and " + s.hi_reg->name
+            : s.hi_reg->array + "k_lo and " + s.hi_reg->array + "k_hi of any element k")
+    << (s.hi_reg->snapshot ? ", read in one burst" : "") << ". */\n"
+    << "static inline " << value_type << " " << fn << "_join(uint32_t lo, uint32_t hi) {\n"
+    << "  const " << raw_type << " v = ((" << raw_type << ")" << hi_fn << "_get(hi) << " << shift
+    << ") | (" << raw_type << ")" << lo_fn << "_get(lo);\n"
+    << "  return " << (f.port_signed ? c_sign_extend("v", f.port_width, wide) : std::string("v"))
+    << ";\n}\n";
+  if (!c_split_writable(s))
+    return;
+  o << "/* " << what << " written: its slices of `value` into the lo and hi words. */\n"
+    << "static inline uint32_t " << fn << "_set_lo(uint32_t lo, " << value_type << " value) {\n"
+    << "  return " << lo_fn << "_set(lo, (uint32_t)" << (wide ? "(uint64_t)" : "") << "value);\n}\n"
+    << "static inline uint32_t " << fn << "_set_hi(uint32_t hi, " << value_type << " value) {\n"
+    << "  return " << hi_fn << "_set(hi, (uint32_t)((" << raw_type << ")value >> " << shift
+    << "));\n}\n";
+}
+
+// The SPI frame of docs/spi.md: command word, CRC-8, frame encode and decode.
+void emit_c_spi(std::ostringstream& o, const RegisterMap& map) {
+  const std::string p = c_prefix(map);
+  const std::string n = map.name + "_spi_";
+  const auto max_bytes =
+      static_cast<std::uint32_t>(kSpiHeaderBytes + kSpiWordBytes * map.spi.max_burst + 1);
+  o << "\n/* SPI frames (docs/spi.md). MOSI: the command word (2 bytes, MSB first), n data words\n"
+    << " * (4 bytes each, MSB first; a read sends zeros), the CRC-8 of every byte before it\n"
+    << " * when top.ctrl.crc_enable is on. MISO: the status byte of the previous frame\n"
+    << " * (top.spi_status bits), 0x00, n words (reads; zeros for writes), the CRC-8 of every\n"
+    << " * byte before it when CRC is on. Command: bit 15 read, bits 14:10 n - 1, bits 9:0 the\n"
+    << " * start word address (auto-incrementing modulo 1024). */\n"
+    << "#define " << p << "SPI_COMMAND_READ " << u32(1U << kSpiCommandReadBit, 4) << "\n"
+    << "#define " << p << "SPI_COMMAND_BURST_SHIFT " << u32(kSpiCommandBurstShift) << "\n"
+    << "#define " << p << "SPI_COMMAND_BURST_MASK "
+    << u32(((1U << kSpiCommandBurstBits) - 1U) << kSpiCommandBurstShift, 4) << "\n"
+    << "#define " << p << "SPI_COMMAND_ADDRESS_MASK " << u32((1U << kSpiCommandAddressBits) - 1U, 4)
+    << "\n"
+    << "#define " << p << "SPI_HEADER_BYTES " << u32(kSpiHeaderBytes) << "\n"
+    << "#define " << p << "SPI_WORD_BYTES " << u32(kSpiWordBytes) << "\n"
+    << "#define " << p << "SPI_FRAME_MAX_BYTES " << u32(max_bytes) << "\n"
+    << "/* The command word of a frame of `count` words (1.." << map.spi.max_burst
+    << ") from word `address`\n * (0..0x3ff): false, and *command untouched, when the frame "
+       "cannot carry them. */\n"
+    << "static inline bool " << n
+    << "command(uint16_t *command, bool read, uint32_t address, uint32_t count) {\n"
+    << "  if (count < UINT32_C(1) || count > " << p << "SPI_MAX_BURST || address > " << p
+    << "SPI_COMMAND_ADDRESS_MASK)\n    return false;\n"
+    << "  *command = (uint16_t)((read ? " << p << "SPI_COMMAND_READ : UINT32_C(0)) |\n"
+    << "                        ((count - UINT32_C(1)) << " << p
+    << "SPI_COMMAND_BURST_SHIFT) | "
+       "address);\n  return true;\n}\n"
+    << "/* CRC-8 (spi.crc: polynomial " << hex(map.spi.crc_polynomial, 2) << ", init "
+    << hex(map.spi.crc_init, 2) << ", MSB first, final XOR " << hex(map.spi.crc_xor_out, 2)
+    << "), one byte at a time:\n * start from (uint8_t)" << p
+    << "SPI_CRC_INIT, finish with ^ (uint8_t)" << p << "SPI_CRC_XOR_OUT. */\n"
+    << "static inline uint8_t " << n << "crc8_update(uint8_t crc, uint8_t byte) {\n"
+    << "  uint8_t c = (uint8_t)(crc ^ byte);\n  uint8_t bit;\n"
+    << "  for (bit = 0; bit < 8u; ++bit)\n"
+    << "    c = (uint8_t)(((unsigned)c << 1) ^ ((c & 0x80u) != 0 ? (unsigned)" << p
+    << "SPI_CRC_POLYNOMIAL : 0u));\n"
+    << "  return c;\n}\n"
+    << "/* The CRC-8 of bytes[0 .. count-1]. */\n"
+    << "static inline uint8_t " << n << "crc8(const uint8_t *bytes, uint32_t count) {\n"
+    << "  uint8_t crc = (uint8_t)" << p << "SPI_CRC_INIT;\n  uint32_t i;\n"
+    << "  for (i = 0; i < count; ++i)\n    crc = " << n << "crc8_update(crc, bytes[i]);\n"
+    << "  return (uint8_t)(crc ^ (uint8_t)" << p << "SPI_CRC_XOR_OUT);\n}\n"
+    << "/* A data word as its 4 frame bytes, MSB first, and back. */\n"
+    << "static inline void " << n << "put_word(uint8_t *bytes, uint32_t word) {\n"
+    << "  bytes[0] = (uint8_t)(word >> 24);\n  bytes[1] = (uint8_t)(word >> 16);\n"
+    << "  bytes[2] = (uint8_t)(word >> 8);\n  bytes[3] = (uint8_t)word;\n}\n"
+    << "static inline uint32_t " << n << "get_word(const uint8_t *bytes) {\n"
+    << "  return ((uint32_t)bytes[0] << 24) | ((uint32_t)bytes[1] << 16) | ((uint32_t)bytes[2] << "
+       "8) |\n         (uint32_t)bytes[3];\n}\n"
+    << "/* The bytes of a frame of `count` words, in each direction. */\n"
+    << "static inline uint32_t " << n << "frame_bytes(uint32_t count, bool crc) {\n"
+    << "  return " << p << "SPI_HEADER_BYTES + " << p << "SPI_WORD_BYTES * count + (crc ? "
+    << "UINT32_C(1) : UINT32_C(0));\n}\n"
+    << "/* The MOSI bytes of a frame into frame[0 .. n-1], n = " << n
+    << "frame_bytes(count, crc)\n * (at most " << p
+    << "SPI_FRAME_MAX_BYTES): the command, a write's `count` words (a read ignores\n"
+    << " * `words` and sends zeros), the CRC-8 when `crc`. Returns n; 0, with nothing written, "
+       "when\n * the command cannot carry count and address. */\n"
+    << "static inline uint32_t " << n
+    << "encode(uint8_t *frame, bool read, uint32_t address, uint32_t count, "
+       "const uint32_t *words, bool crc) {\n"
+    << "  uint16_t command;\n  uint32_t k;\n  uint32_t at = " << p << "SPI_HEADER_BYTES;\n"
+    << "  if (!" << n << "command(&command, read, address, count))\n    return 0;\n"
+    << "  frame[0] = (uint8_t)(command >> 8);\n  frame[1] = (uint8_t)command;\n"
+    << "  for (k = 0; k < count; ++k, at += " << p << "SPI_WORD_BYTES)\n"
+    << "    " << n << "put_word(&frame[at], read ? UINT32_C(0) : words[k]);\n"
+    << "  if (crc) {\n    frame[at] = " << n << "crc8(frame, at);\n    ++at;\n  }\n"
+    << "  return at;\n}\n"
+    << "/* The MISO bytes of a frame of `count` words (" << n
+    << "frame_bytes(count, crc) of "
+       "them):\n * *status = the previous frame's status byte, words[0 .. count-1] = the words "
+       "(a\n * write's zeros; `words` may be 0 then). False, with nothing stored, for a bad "
+       "count or\n * a CRC mismatch. */\n"
+    << "static inline bool " << n
+    << "decode(const uint8_t *frame, uint32_t count, bool crc, uint8_t *status, "
+       "uint32_t *words) {\n"
+    << "  const uint32_t body = " << p << "SPI_HEADER_BYTES + " << p << "SPI_WORD_BYTES * count;\n"
+    << "  uint32_t k;\n"
+    << "  if (count < UINT32_C(1) || count > " << p << "SPI_MAX_BURST)\n    return false;\n"
+    << "  if (crc && " << n << "crc8(frame, body) != frame[body])\n    return false;\n"
+    << "  *status = frame[0];\n"
+    << "  for (k = 0; words != 0 && k < count; ++k)\n"
+    << "    words[k] = " << n << "get_word(&frame[" << p << "SPI_HEADER_BYTES + " << p
+    << "SPI_WORD_BYTES * k]);\n"
+    << "  return true;\n}\n";
+}
+
 constexpr const char* kGeneratedBanner =
     "Generated by odoloc_regmap_gen from regmap/odoloc.yaml. Do not edit.";
 
@@ -75,6 +223,11 @@ std::string emit_cpp(const RegisterMap& map) {
     << ";  // CRC-8\n"
     << "inline constexpr std::uint8_t kCrcInit = " << hex(map.spi.crc_init, 2) << ";\n"
     << "inline constexpr std::uint8_t kCrcXorOut = " << hex(map.spi.crc_xor_out, 2) << ";\n"
+    << "// The command word: read bit, burst length - 1 above the start word address.\n"
+    << "inline constexpr unsigned kCommandReadBit = " << kSpiCommandReadBit << ";\n"
+    << "inline constexpr unsigned kCommandBurstShift = " << kSpiCommandBurstShift << ";\n"
+    << "inline constexpr unsigned kCommandBurstBits = " << kSpiCommandBurstBits << ";\n"
+    << "inline constexpr unsigned kCommandAddressBits = " << kSpiCommandAddressBits << ";\n"
     << "}  // namespace spi\n\n"
     << "// What software may do. kRpop (read pops): read only; a read frame that\n"
     << "// completes without error pops off the hardware's FIFO the elements of the\n"
@@ -271,9 +424,11 @@ std::string emit_c(const RegisterMap& map) {
   std::ostringstream o;
   o << "/* " << kGeneratedBanner << " */\n/* " << comment_text(map.description) << " */\n"
     << "/* C99 or later (stdint.h: uint32_t, UINT32_C); C++ too. Every constant is\n"
-    << " * a 32-bit unsigned (UINT32_C) and every helper computes in uint32_t, also\n"
-    << " * where unsigned int has 16 bits (AVR, MSP430). */\n"
-    << "#ifndef " << p << "REGS_H\n#define " << p << "REGS_H\n\n#include <stdint.h>\n\n"
+    << " * a 32-bit unsigned (UINT32_C) and every helper computes in uint32_t (uint64_t\n"
+    << " * for values of two words), also where unsigned int has 16 bits (AVR, MSP430).\n"
+    << " * Freestanding: no library function is called. */\n"
+    << "#ifndef " << p << "REGS_H\n#define " << p << "REGS_H\n\n#include <stdbool.h>\n"
+    << "#include <stdint.h>\n\n"
     << "#define " << p << "ADDRESS_BITS " << u32(static_cast<std::uint32_t>(map.address_bits))
     << "\n"
     << "#define " << p << "DATA_BITS " << u32(static_cast<std::uint32_t>(map.data_bits)) << "\n"
@@ -331,9 +486,20 @@ std::string emit_c(const RegisterMap& map) {
           << "static inline uint32_t " << fn << "_set(uint32_t word, uint32_t value) {\n"
           << "  return (uint32_t)((word & (uint32_t)~" << fld << "_MASK) | (((uint32_t)value << "
           << fld << "_SHIFT) & " << fld << "_MASK));\n}\n";
+        if (f.is_signed) {  // two's complement: the field's value with its sign
+          o << "static inline int32_t " << c_get_signed(map, b, r, f) << "(uint32_t word) {\n"
+            << "  const uint32_t v = " << fn << "_get(word);\n"
+            << "  return " << c_sign_extend("v", f.width(), false) << ";\n}\n";
+        }
       }
     }
   }
+  const std::vector<SplitField> split = split_fields(map);
+  if (!split.empty())
+    o << "\n/* Fields in both words of a two-word register. */\n";
+  for (const SplitField& s : split)
+    emit_c_split_field(o, map, s);
+  emit_c_spi(o, map);
   o << "\n#endif /* " << p << "REGS_H */\n";
   return o.str();
 }

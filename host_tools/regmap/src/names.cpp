@@ -7,6 +7,8 @@
 #include <map>
 #include <set>
 
+#include "c_helpers.hpp"
+
 namespace odoloc::regmap {
 
 namespace {
@@ -60,6 +62,10 @@ void c_names(const RegisterMap& map, Names& n) {
                         "FABRIC_CLOCK_PERIOD_NS", "SPI_MAX_BURST", "SPI_MIN_LEVEL_CLOCKS",
                         "SPI_MAX_SCLK_HZ", "SPI_CRC_POLYNOMIAL", "SPI_CRC_INIT", "SPI_CRC_XOR_OUT"})
     c(p + g, "map.name (the generated " + p + g + ")");
+  for (const char* g : kCSpiMacros)
+    c(p + g, "map.name (the generated " + p + g + ")");
+  for (const char* g : kCSpiFunctions)
+    c(map.name + "_" + g, "map.name (the generated " + map.name + "_" + g + ")");
   for (const RegisterInstance& ri : flatten(map)) {
     std::string path = register_path(*ri.block, *ri.reg);
     if (ri.instance >= 0)
@@ -91,7 +97,17 @@ void c_names(const RegisterMap& map, Names& n) {
           c(c_enumerator(map, b, r, f, e.first), fp + " enum " + e.first);
         c(c_function(map, b, r, f) + "_get", fp);
         c(c_function(map, b, r, f) + "_set", fp);
+        if (f.is_signed)
+          c(c_get_signed(map, b, r, f), fp);
       }
+    }
+  }
+  for (const SplitField& s : split_fields(map)) {
+    const std::string fp = field_path(*s.block, *s.hi_reg, *s.hi);
+    c(c_split_function(map, s) + "_join", fp);
+    if (c_split_writable(s)) {
+      c(c_split_function(map, s) + "_set_lo", fp);
+      c(c_split_function(map, s) + "_set_hi", fp);
     }
   }
 }

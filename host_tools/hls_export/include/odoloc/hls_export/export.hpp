@@ -7,7 +7,7 @@
 //                kernel.cpp          the top function
 //                kernel_test.cpp     C-simulation testbench: 0 on success
 //                golden_vectors.txt  inputs and outputs per call, from the cycle model
-//                run_hls.tcl | run_catapult.tcl | Makefile   the tool's script
+//                run_hls.tcl + hls_config.cfg | run_catapult.tcl | Makefile   the tool's flow
 //                README.md
 //
 // No file includes anything outside its tree except the vendor's type header
