@@ -14,6 +14,7 @@ packages=(
   clang-tidy python3  # the HLS synthesizability lint, with clang (ctest label lint)
   gnuplot-nox  # the demo's trajectory plot, odoloc plot, locate --plot, sweep merge
   liblcm-dev liblcm-bin libglib2.0-dev  # LCM messages, lcm-gen, lcm-logger/-logplayer (lcm.pc needs glib)
+  help2man  # the man page odoloc.1, made from the built odoloc's --help (without it: no man page)
 )
 if [ "${1:-}" = "--tests" ]; then
   packages+=(
@@ -23,6 +24,10 @@ if [ "${1:-}" = "--tests" ]; then
     parallel     # test_sweep_e2e runs a sweep's shards through GNU parallel
     gcc-avr avr-libc                          # test_regmap_corpus: odoloc_regs.h with a 16-bit int
     gcc-arm-none-eabi libnewlib-arm-none-eabi  # ... and on a Cortex-M compiler
+    lintian groff-base  # cli_package lints the Debian package and renders its man page
+    # test_lcm_user_tools: a real lcm-spy on Xvfb with the generated Java
+    # types (the build makes the jar when a JDK and liblcm-java are there)
+    liblcm-java libjchart2d-java default-jdk-headless xvfb
   )
 fi
 

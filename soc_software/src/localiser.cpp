@@ -102,8 +102,10 @@ LocaliserStep Localiser::step() {
   out.odometry = odometry_.read();
   out.time_s = now_s();
   const fuse::Pose pose{{out.odometry.x_m, out.odometry.y_m, out.odometry.theta_rad}};
+  out.increment = fuse::increment_between(
+      track_.empty() ? fuse::Pose{config_.start_pose} : track_.back().pose, pose);
   if (!track_.empty())
-    ekf_.predict(out.time_s, fuse::Increment{fuse::increment_between(track_.back().pose, pose)});
+    ekf_.predict(out.time_s, fuse::Increment{out.increment});
   track_.push_back({out.time_s, pose});
   // Kept: the filter's history and the cycle being decoded.
   const double keep_s = config_.ekf.history_s + config_.kleeman.schedule.cycle_s();

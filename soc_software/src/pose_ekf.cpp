@@ -100,6 +100,15 @@ Pose compose(const Pose& pose, const Vector3& increment) {
   return out;
 }
 
+double arc_length(const Vector3& increment) {
+  const double chord = std::hypot(increment(0), increment(1));
+  const double half_turn = increment(2) / 2;
+  // sin(h)/h is 1 - h^2/6 to double precision below 1e-4 rad.
+  const double chord_per_arc =
+      std::abs(half_turn) < 1e-4 ? 1 - half_turn * half_turn / 6 : std::sin(half_turn) / half_turn;
+  return std::copysign(chord / chord_per_arc, increment(0));
+}
+
 std::string_view name(MeasurementType type) {
   switch (type) {
     case MeasurementType::kPositionFix:

@@ -61,12 +61,16 @@ inline odoloc_lcm::odometry_increment_t odometry_increment(int k) {
   odoloc_lcm::odometry_increment_t m{};
   m.utime = tick_utime(k);
   m.updates = (0xFFFF'FFF0LL + k) & 0xFFFF'FFFFLL;  // the 32-bit counter wraps during a run
-  m.rear_ds = 1.0e-4 * (k + 1) + 1.5e-9;
-  m.rear_dtheta = -2.5e-5 * (k + 1);
-  m.front_ds = 0.9999e-4 * (k + 1);
-  m.front_dtheta = -2.4e-5 * (k + 1) - 3.0e-12;
-  m.ds = k % 2 == 0 ? m.rear_ds : m.front_ds;
-  m.dtheta = k % 3 == 0 ? m.front_dtheta : m.rear_dtheta;
+  m.dx = 1.0e-2 * (k + 1) + 1.5e-9;
+  m.dy = -3.0e-6 * k;
+  m.dtheta = -2.5e-3 * (k + 1);
+  m.ds = m.dx * (1 + 1e-7 * k);
+  m.last_rear_ds = 1.0e-4 * (k + 1) + 1.5e-9;
+  m.last_rear_dtheta = -2.5e-5 * (k + 1);
+  m.last_front_ds = 0.9999e-4 * (k + 1);
+  m.last_front_dtheta = -2.4e-5 * (k + 1) - 3.0e-12;
+  m.last_ds = k % 2 == 0 ? m.last_rear_ds : m.last_front_ds;
+  m.last_dtheta = k % 3 == 0 ? m.last_front_dtheta : m.last_rear_dtheta;
   m.ds_from_front = k % 2 != 0;
   m.dtheta_from_front = k % 3 == 0;
   m.steer_phi = -0.6981317007977318 + 1.0e-3 * k;  // from the -40 degree limit
@@ -198,7 +202,8 @@ void for_each_channel(F&& f) {
   f.template operator()<odoloc_lcm::tof_measurement_set_t>(channel::kTof);
   f.template operator()<odoloc_lcm::beacon_fix_t>(channel::kFix);
   f.template operator()<odoloc_lcm::station_measurement_t>(channel::kStation);
-  f.template operator()<odoloc_lcm::pose_estimate_t>(channel::kPose);
+  for (const channel::PoseStream& stream : channel::kPoseStreams)
+    f.template operator()<odoloc_lcm::pose_estimate_t>(stream.channel);
   f.template operator()<odoloc_lcm::pose_estimate_t>(channel::kTruth);
   f.template operator()<odoloc_lcm::register_request_t>(channel::kRegRequest);
   f.template operator()<odoloc_lcm::register_response_t>(channel::kRegResponse);
@@ -241,7 +246,8 @@ inline std::vector<Event> drive_sequence(int ticks) {
       add(channel::kSimStatus, sim_status(t / 100), t);
     add(channel::kEncoders, encoder_state(t), t);
     add(channel::kOdometry, odometry_increment(t), t);
-    add(channel::kPose, pose_estimate(t), t);
+    const auto pose = pose_estimate(t);
+    add(channel::pose_channel(pose.source), pose, t);
     if (t % 10 == 9) {
       add(channel::kTof, tof_measurement_set(t / 10), t);
       add(channel::kFix, beacon_fix(t / 10), t);

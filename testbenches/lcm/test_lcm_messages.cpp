@@ -57,12 +57,16 @@ void expect_same(const odoloc_lcm::odometry_increment_t& a,
                  const odoloc_lcm::odometry_increment_t& b) {
   EXPECT_EQ(a.utime, b.utime);
   EXPECT_EQ(a.updates, b.updates);
-  EXPECT_EQ(a.rear_ds, b.rear_ds);
-  EXPECT_EQ(a.rear_dtheta, b.rear_dtheta);
-  EXPECT_EQ(a.front_ds, b.front_ds);
-  EXPECT_EQ(a.front_dtheta, b.front_dtheta);
-  EXPECT_EQ(a.ds, b.ds);
+  EXPECT_EQ(a.dx, b.dx);
+  EXPECT_EQ(a.dy, b.dy);
   EXPECT_EQ(a.dtheta, b.dtheta);
+  EXPECT_EQ(a.ds, b.ds);
+  EXPECT_EQ(a.last_rear_ds, b.last_rear_ds);
+  EXPECT_EQ(a.last_rear_dtheta, b.last_rear_dtheta);
+  EXPECT_EQ(a.last_front_ds, b.last_front_ds);
+  EXPECT_EQ(a.last_front_dtheta, b.last_front_dtheta);
+  EXPECT_EQ(a.last_ds, b.last_ds);
+  EXPECT_EQ(a.last_dtheta, b.last_dtheta);
   EXPECT_EQ(a.ds_from_front, b.ds_from_front);
   EXPECT_EQ(a.dtheta_from_front, b.dtheta_from_front);
   EXPECT_EQ(a.steer_phi, b.steer_phi);
@@ -196,12 +200,20 @@ odoloc_lcm::sim_status_t sample(int k) {
 
 TEST(LcmMessages, ChannelNamesAreDistinctLcmNames) {
   std::set<std::string> names;
+  std::size_t channels = 0;
   msg::for_each_channel([&]<class Message>(const char* name) {
     EXPECT_LE(std::strlen(name), 63U) << name;  // LCM_MAX_CHANNEL_NAME_LENGTH
     EXPECT_EQ(std::string(name).rfind("ODOLOC_", 0), 0U) << name;
     names.insert(name);
+    ++channels;
   });
-  EXPECT_EQ(names.size(), 10U);
+  EXPECT_EQ(names.size(), channels);
+  EXPECT_EQ(channels, 13U);  // channels.hpp's ten streams, the pose in four
+  for (const auto& stream : odoloc::lcm::channel::kPoseStreams) {
+    EXPECT_STREQ(odoloc::lcm::channel::pose_channel(stream.source), stream.channel);
+    EXPECT_EQ(std::string(stream.channel).rfind(odoloc::lcm::channel::kPosePrefix, 0), 0U);
+  }
+  EXPECT_EQ(odoloc::lcm::channel::pose_channel("truth"), nullptr);
   EXPECT_STREQ(odoloc::lcm::kDefaultUrl, "udpm://239.255.76.67:7667?ttl=0");
 }
 
@@ -368,9 +380,9 @@ TEST(LcmMessages, LengthFieldsOutOfRangeAreIgnoredAndCounted) {
     const std::size_t at = 8 + 8;                                   // utime
     ASSERT_EQ(good.at(at + 3), 6);                                  // with its terminator
     expect_ignored_and_counted<odoloc_lcm::pose_estimate_t>(
-        channel::kPose, {patched(good, at, 4, 0), patched(good, at, 4, 0xFFFF'FFFF),
-                         patched(good, at, 4, 0x8000'0000), patched(good, at, 4, 0x7FFF'FFFF),
-                         patched(good, at, 4, good.size())});
+        channel::kPoseFused, {patched(good, at, 4, 0), patched(good, at, 4, 0xFFFF'FFFF),
+                              patched(good, at, 4, 0x8000'0000), patched(good, at, 4, 0x7FFF'FFFF),
+                              patched(good, at, 4, good.size())});
   }
 }
 

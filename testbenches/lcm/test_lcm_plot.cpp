@@ -129,8 +129,8 @@ std::uint64_t write_test_log(const fs::path& file) {
     const odoloc_lcm::pose_estimate_t truth = truth_at(utime);
     publish(channel::kTruth, truth);
     const double t = seconds(utime);
-    publish(channel::kPose, pose("odometry", utime, truth.x + kDriftMps * t, truth.y,
-                                 wrapped(truth.theta - kHeadingDriftRadps * t)));
+    publish(channel::kPoseOdometry, pose("odometry", utime, truth.x + kDriftMps * t, truth.y,
+                                         wrapped(truth.theta - kHeadingDriftRadps * t)));
     if (i < kFusedSamples) {
       const std::int64_t fused_time = fused_utime(i);
       const double phi = kOmega * seconds(fused_time);
@@ -138,7 +138,7 @@ std::uint64_t write_test_log(const fs::path& file) {
           pose("fused", fused_time, (kRadius + kFusedRadial) * std::cos(phi),
                (kRadius + kFusedRadial) * std::sin(phi), wrapped(phi + pi / 2 + kFusedHeading));
       std::copy(std::begin(kFusedCovariance), std::end(kFusedCovariance), fused.covariance);
-      publish(channel::kPose, fused);
+      publish(channel::kPoseFused, fused);
     }
     if (i % 100 == 50) {
       const int k = i / 100;
@@ -156,20 +156,20 @@ std::uint64_t write_test_log(const fs::path& file) {
       publish(channel::kFix, fix);
     }
   }
-  // A source the tool does not know, published before the known ones: one
-  // sample at the circle's centre; and one with nothing to compare, after
-  // the truth's end.
-  publish(channel::kPose, pose("wheel_only", 2'000'000, 0, 0, 0));
+  // A source the tool does not know (on its own ODOLOC_POSE_* channel),
+  // published before the known ones: one sample at the circle's centre; and
+  // one with nothing to compare, after the truth's end.
+  publish("ODOLOC_POSE_WHEEL_ONLY", pose("wheel_only", 2'000'000, 0, 0, 0));
   for (int i = 1; i <= 5; ++i)
-    publish(channel::kPose, pose("rear", 10'000'000 + i * 100'000, 1, 1, 0));
+    publish(channel::kPoseRear, pose("rear", 10'000'000 + i * 100'000, 1, 1, 0));
   // Malformed: bytes that are no message, a truncated pose, a pose on the
   // fixes' channel (another type's fingerprint), a pose with a NaN position.
-  publish_raw(channel::kPose, {1, 2, 3, 4, 5, 6, 7, 8, 9});
+  publish_raw(channel::kPoseFused, {1, 2, 3, 4, 5, 6, 7, 8, 9});
   std::vector<std::uint8_t> truncated = odoloc::lcm::encode(truth_at(0));
   truncated.pop_back();
   publish_raw(channel::kTruth, truncated);
   publish_raw(channel::kFix, odoloc::lcm::encode(truth_at(0)));
-  publish(channel::kPose, pose("fused", 3'000'000, std::nan(""), 0, 0));
+  publish(channel::kPoseFused, pose("fused", 3'000'000, std::nan(""), 0, 0));
   // Another channel's garbage is not the plot's business.
   publish_raw(channel::kEncoders, {0xde, 0xad});
   return events;
@@ -356,7 +356,7 @@ TEST(PlotLogWithoutTruth, DrawsTheTrajectoriesAlone) {
   {
     odoloc::lcm::Connection log("file://" + (dir / "robot.lcmlog").string() + "?mode=w");
     for (int i = 0; i < 3; ++i)
-      log.publish(channel::kPose, pose("fused", i * kTick, 0.1 * i, 0, 0));
+      log.publish(channel::kPoseFused, pose("fused", i * kTick, 0.1 * i, 0, 0));
   }
   const plot::LogSeries s = plot::read_log(dir / "robot.lcmlog");
   EXPECT_TRUE(s.truth.samples.empty());
@@ -374,7 +374,7 @@ TEST(PlotLogWithoutTruth, DrawsTheTrajectoriesAlone) {
   {
     odoloc::lcm::Connection log("file://" + (dir / "junk.lcmlog").string() + "?mode=w");
     const std::vector<std::uint8_t> junk = {1, 2, 3};
-    log.publish_raw(channel::kPose, junk.data(), junk.size());
+    log.publish_raw(channel::kPoseFused, junk.data(), junk.size());
   }
   try {
     (void)plot::read_log(dir / "junk.lcmlog");
@@ -383,7 +383,7 @@ TEST(PlotLogWithoutTruth, DrawsTheTrajectoriesAlone) {
     EXPECT_TRUE(e.usage());
     EXPECT_EQ(std::string{e.what()},
               (dir / "junk.lcmlog").string() +
-                  ": no ODOLOC_TRUTH, ODOLOC_POSE or valid ODOLOC_FIX event that decodes (1 "
+                  ": no ODOLOC_TRUTH, ODOLOC_POSE_* or valid ODOLOC_FIX event that decodes (1 "
                   "events, 1 malformed): nothing to plot");
   }
 }
@@ -404,8 +404,8 @@ TEST(PlotHostileLog, SourceNamesAreDataForGnuplotAndTheTerminal) {
       log.publish(channel::kTruth, truth_at(i * kTick));
       for (std::size_t n = 0; n < names.size(); ++n) {
         const odoloc_lcm::pose_estimate_t t = truth_at(i * kTick);
-        log.publish(channel::kPose, pose(names[n].c_str(), i * kTick,
-                                         t.x + 0.01 * static_cast<double>(n), t.y, t.theta));
+        log.publish(channel::kPoseFused, pose(names[n].c_str(), i * kTick,
+                                              t.x + 0.01 * static_cast<double>(n), t.y, t.theta));
       }
     }
   }

@@ -118,7 +118,8 @@ class StandIn {
         (void)connection.handle(1ms);
         if (std::chrono::steady_clock::now() >= next) {
           for (int s = 0; s < 5; ++s)
-            connection.publish(s == 4 ? channel::kTruth : channel::kPose, estimate(k, s));
+            connection.publish(s == 4 ? channel::kTruth : channel::kPoseStreams.at(s).channel,
+                               estimate(k, s));
           ++k;
           next += 10ms;
         }

@@ -57,6 +57,38 @@ TEST(PoseAlgebra, WrapAndComposeInvert) {
   }
 }
 
+// The distance driven, from the increment between two poses on a circle of
+// radius r swept by phi (arc r * phi, in long double) and on straight
+// drives at any heading, forward and reversing.
+TEST(PoseAlgebra, ArcLengthOfAnIncrement) {
+  for (const double heading : {0.0, 0.7, -2.4, kPi}) {
+    for (const double distance : {1e-6, 0.012, -0.3, 5.0}) {
+      const Pose from = pose(3, -1, heading);
+      const Pose to =
+          pose(3 + distance * std::cos(heading), -1 + distance * std::sin(heading), heading);
+      EXPECT_NEAR(arc_length(increment_between(from, to)), distance, 1e-13) << heading;
+    }
+    for (const long double radius : {0.25L, 1.7L, -4.0L}) {  // negative: turning right
+      for (const long double phi : {1e-9L, 3e-5L, 2e-3L, 0.4L, 2.5L}) {
+        // Centre to the robot's left at `radius`; heading turns by phi.
+        const long double cx = 1 - radius * std::sin(static_cast<long double>(heading));
+        const long double cy = 2 + radius * std::cos(static_cast<long double>(heading));
+        const long double h1 = heading + phi * (radius > 0 ? 1 : -1);
+        const Pose from = pose(1, 2, heading);
+        const Pose to = pose(static_cast<double>(cx + radius * std::sin(h1)),
+                             static_cast<double>(cy - radius * std::cos(h1)),
+                             wrap_angle(static_cast<double>(h1)));
+        const long double arc = std::abs(radius) * phi;
+        EXPECT_NEAR(arc_length(increment_between(from, to)), static_cast<double>(arc),
+                    1e-12 * (1 + static_cast<double>(arc) * 1e3))
+            << "r " << static_cast<double>(radius) << " phi " << static_cast<double>(phi);
+      }
+    }
+  }
+  EXPECT_EQ(arc_length(Vector3::Zero()), 0.0);
+  EXPECT_TRUE(std::isnan(arc_length(Vector3(std::nan(""), 0, 0))));
+}
+
 // Physics: driving straight ahead at any heading moves along that heading,
 // and the along-track variance is the per-metre variance times the length
 // (no heading noise configured, so nothing couples into it).

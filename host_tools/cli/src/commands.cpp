@@ -610,10 +610,11 @@ Invocation parse_invocation(std::span<const std::string> args) {
       "watch", "print what a simulator publishes on LCM as it comes (no target)");
   watch_top->require_subcommand(1);
   watch_top->fallthrough();
-  CLI::App* watch_pose = watch_top->add_subcommand(
-      "pose",
-      "pose estimates from ODOLOC_POSE (truth: ODOLOC_TRUTH), one line each: time, source, x, "
-      "y, heading, standard deviations");
+  CLI::App* watch_pose =
+      watch_top->add_subcommand("pose",
+                                "pose estimates from ODOLOC_POSE_<SOURCE> (truth: ODOLOC_TRUTH), "
+                                "one line each: time, source, x, "
+                                "y, heading, standard deviations");
   watch_pose
       ->add_option("--source", watch_pose_command.source,
                    "fused (default), odometry, rear, front, truth or all")

@@ -105,8 +105,9 @@ void run_watch_pose(const WatchPoseCommand& cmd, std::ostream& out, bool json,
     out << std::flush;
     ++printed;
   };
-  if (all || cmd.source != "truth")
-    connection.subscribe<Pose>(lcm::channel::kPose, print);
+  for (const lcm::channel::PoseStream& stream : lcm::channel::kPoseStreams)
+    if (all || cmd.source == stream.source)
+      connection.subscribe<Pose>(stream.channel, print);
   if (all || cmd.source == "truth")
     connection.subscribe<Pose>(lcm::channel::kTruth, print);
   while (cmd.count == 0 || printed < cmd.count) {

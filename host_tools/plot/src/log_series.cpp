@@ -172,7 +172,7 @@ LogSeries read_log(const fs::path& file) {
     ++series.counts.events;
     read_up_to = ftello(log.getFilePtr());
     const auto size = static_cast<std::size_t>(event->datalen);
-    if (event->channel == channel::kTruth || event->channel == channel::kPose) {
+    if (event->channel == channel::kTruth || event->channel.starts_with(channel::kPosePrefix)) {
       odoloc_lcm::pose_estimate_t pose{};
       if (!odoloc::lcm::decode(event->data, size, pose) || !finite_position(pose.x, pose.y) ||
           !std::isfinite(pose.theta)) {
@@ -231,8 +231,8 @@ LogSeries read_log(const fs::path& file) {
   }
   if (!any)
     usage_error(fmt::format(
-        "{}: no {}, {} or valid {} event that decodes ({} events, {} malformed): nothing to plot",
-        file.string(), channel::kTruth, channel::kPose, channel::kFix, series.counts.events,
+        "{}: no {}, {}* or valid {} event that decodes ({} events, {} malformed): nothing to plot",
+        file.string(), channel::kTruth, channel::kPosePrefix, channel::kFix, series.counts.events,
         series.counts.malformed));
   for (Track* t : all) {
     if (t != &series.truth)

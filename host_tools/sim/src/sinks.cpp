@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <tuple>
 #include <type_traits>
 #include <utility>
 #include <variant>
@@ -170,7 +171,10 @@ void LcmSink::publish(const char* channel, const Message& message) {
   }
   std::vector<std::uint8_t> bytes = lcm::encode(message);
   ::lcm::LogEvent event{};
-  event.timestamp = message.utime;
+  // Publish order, never backwards (a fix is published a cycle after its
+  // ranges' capture time, which its utime keeps).
+  event.timestamp = std::max(event_utime_, publish_utime_);
+  event_utime_ = event.timestamp;
   event.channel = channel;
   event.datalen = static_cast<std::int32_t>(bytes.size());
   event.data = bytes.data();
@@ -201,6 +205,7 @@ odoloc_lcm::pose_estimate_t pose_message(double time_s, const char* source, cons
 
 void LcmSink::frame(const Frame& frame, LocalisationSystem& system) {
   namespace channel = lcm::channel;
+  publish_utime_ = utime(frame.time_s);
   publish(channel::kTruth, pose_message(frame.time_s, "truth", frame.truth));
 
   if (frame.encoders) {
@@ -223,12 +228,16 @@ void LcmSink::frame(const Frame& frame, LocalisationSystem& system) {
   odoloc_lcm::odometry_increment_t odometry{};
   odometry.utime = utime(frame.time_s);
   odometry.updates = o.updates;
-  odometry.rear_ds = o.rear_ds_m;
-  odometry.rear_dtheta = o.rear_dtheta_rad;
-  odometry.front_ds = o.front_ds_m;
-  odometry.front_dtheta = o.front_dtheta_rad;
-  odometry.ds = o.ds_m;
-  odometry.dtheta = o.dtheta_rad;
+  odometry.dx = frame.soc.increment(0);
+  odometry.dy = frame.soc.increment(1);
+  odometry.dtheta = frame.soc.increment(2);
+  odometry.ds = sw::fuse::arc_length(frame.soc.increment);
+  odometry.last_rear_ds = o.rear_ds_m;
+  odometry.last_rear_dtheta = o.rear_dtheta_rad;
+  odometry.last_front_ds = o.front_ds_m;
+  odometry.last_front_dtheta = o.front_dtheta_rad;
+  odometry.last_ds = o.ds_m;
+  odometry.last_dtheta = o.dtheta_rad;
   odometry.ds_from_front = o.ds_from_front;
   odometry.dtheta_from_front = o.dtheta_from_front;
   odometry.steer_phi = o.steer_rad;
@@ -274,11 +283,12 @@ void LcmSink::frame(const Frame& frame, LocalisationSystem& system) {
   }
   publish_events(frame, system);
 
-  publish(channel::kPose, pose_message(frame.time_s, "odometry", odometry_pose(frame.soc)));
-  for (const auto& [source, policy] : {std::pair{"rear", rtl::MinSelectPolicy::kRearOnly},
-                                       std::pair{"front", rtl::MinSelectPolicy::kFrontOnly}})
+  publish(channel::kPoseOdometry, pose_message(frame.time_s, "odometry", odometry_pose(frame.soc)));
+  for (const auto& [name, source, policy] :
+       {std::tuple{channel::kPoseRear, "rear", rtl::MinSelectPolicy::kRearOnly},
+        std::tuple{channel::kPoseFront, "front", rtl::MinSelectPolicy::kFrontOnly}})
     if (const auto p = reference_at(system.reference(policy), frame.time_s))
-      publish(channel::kPose, pose_message(frame.time_s, source, p->fabric));
+      publish(name, pose_message(frame.time_s, source, p->fabric));
   const sw::fuse::Estimate& e = frame.soc.estimate;
   if (e.initialised) {
     odoloc_lcm::pose_estimate_t fused = pose_message(frame.time_s, "fused", fused_pose(frame.soc));
@@ -287,7 +297,7 @@ void LcmSink::frame(const Frame& frame, LocalisationSystem& system) {
     fused.odometry_only = e.odometry_only;
     fused.last_update_utime =
         e.last_absolute_s < 0 ? 0 : utime(system.to_sim_time(e.last_absolute_s));
-    publish(channel::kPose, fused);
+    publish(channel::kPoseFused, fused);
   }
 }
 

@@ -116,6 +116,11 @@ struct StationUpdate {
 struct LocaliserStep {
   double time_s = 0;  // the timestamp read with the odometry snapshot
   FabricOdometry odometry;
+  // The fabric's motion since the previous step (the first step: since the
+  // fabric's pose was loaded with config.start_pose), robot frame at the
+  // previous pose: dx m, dy m, dtheta rad (fuse::increment_between), as the
+  // filter predicts with it.
+  fuse::Vector3 increment = fuse::Vector3::Zero();
   std::optional<tof::CaptureBatch> batch;  // when this step drained the capture unit
   std::vector<CycleResult> cycles;         // the cycles this step's batch completed
   std::vector<StationUpdate> station;      // the base station's measurements this step made

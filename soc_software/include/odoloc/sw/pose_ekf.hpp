@@ -94,6 +94,13 @@ double wrap_angle(double rad);
 Vector3 increment_between(const Pose& from, const Pose& to);
 // `pose` moved by `increment` (the inverse of increment_between).
 Pose compose(const Pose& pose, const Vector3& increment);
+// The signed distance driven along `increment` (m; negative when reversing):
+// the length of the circular arc from the origin, heading 0, to (dx, dy)
+// with the turn dtheta, chord * (dtheta/2) / sin(dtheta/2). Exact for a
+// straight drive and for a constant turning radius; the fabric's midpoint
+// integration over a 10 ms read interval makes that arc to second order.
+// NaN for a non-finite increment.
+double arc_length(const Vector3& increment);
 
 // ---------------------------------------------------------------- inputs
 

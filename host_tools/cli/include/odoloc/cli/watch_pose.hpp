@@ -13,8 +13,8 @@
 namespace odoloc::cli {
 
 struct WatchPoseCommand {
-  // A pose_estimate_t source: fused, odometry, rear, front (ODOLOC_POSE),
-  // truth (ODOLOC_TRUTH), or all: both channels, every source.
+  // A pose_estimate_t source: fused, odometry, rear, front (each on its
+  // channel ODOLOC_POSE_<SOURCE>), truth (ODOLOC_TRUTH), or all of them.
   std::string source = "fused";
   std::uint64_t count = 0;  // estimates to print; 0: until Ctrl-C
   std::string url = lcm::kDefaultUrl;

@@ -1,5 +1,5 @@
 // The series of an LCM event log that `odoloc plot` draws (docs/host-tool.md):
-// the ground truth (ODOLOC_TRUTH), every pose source (ODOLOC_POSE: fused,
+// the ground truth (ODOLOC_TRUTH), every pose source (ODOLOC_POSE_*: fused,
 // odometry, rear, front, ...) and the valid beacon fixes (ODOLOC_FIX), each
 // with its errors against the truth interpolated at the estimate's time.
 // Reads the log with LCM's own reader; decodes with odoloc::lcm::decode, so
@@ -63,7 +63,7 @@ struct Track {
 // Events of the log by what became of them.
 struct LogCounts {
   std::uint64_t events = 0;  // every event LCM's reader returned
-  // On ODOLOC_TRUTH, ODOLOC_POSE or ODOLOC_FIX but not their type's message,
+  // On ODOLOC_TRUTH, ODOLOC_POSE_* or ODOLOC_FIX but not their type's message,
   // or (a pose, a valid fix) with a non-finite position or (a pose) heading:
   // skipped.
   std::uint64_t malformed = 0;

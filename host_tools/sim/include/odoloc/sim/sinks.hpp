@@ -70,9 +70,11 @@ class CsvSink final : public FrameSink {
 // odometry, rear-only, front-only).
 // Message times are simulated microseconds. Either published on a live
 // connection, or written to an LCM event log whose event timestamps are the
-// simulated times too, so lcm-logplayer replays the run at the robot's pace
-// (LCM's own file:// provider would stamp the wall clock of a simulator
-// running many times faster).
+// simulated times of publication (the frame's; never decreasing), so
+// lcm-logplayer replays the run at the robot's pace (LCM's own file://
+// provider would stamp the wall clock of a simulator running many times
+// faster). A message's utime is when its data was measured, which for a
+// fix or a cycle's events is up to a beacon cycle before its publication.
 class LcmSink final : public FrameSink {
  public:
   // Publishes on `connection`, which must outlive the sink.
@@ -95,6 +97,8 @@ class LcmSink final : public FrameSink {
   std::string log_path_;
   std::unique_ptr<::lcm::LogFile> log_;
   bool log_failed_ = false;
+  std::int64_t publish_utime_ = 0;  // the frame being published, µs
+  std::int64_t event_utime_ = 0;    // the last log event's timestamp, µs
   std::uint64_t published_ = 0;
   std::uint64_t cycles_ = 0;
   std::vector<std::vector<std::int64_t>> rises_;  // per channel, unwrapped ticks
