@@ -2,8 +2,11 @@
 #
 # The layering of the tree (README "What is here", docs/conventions.md):
 #
-#   rtl_model/          the C++ standard library, odoloc/rtl/..., and the
-#                       generated odoloc/regs.hpp and odoloc/ports.hpp only
+#   rtl_model/          the C++ standard library, odoloc/rtl/..., odoloc/logic/...
+#                       and the generated odoloc/regs.hpp and odoloc/ports.hpp only
+#   rtl_model/include/odoloc/logic  the blocks' logic, written once for the model
+#                       and HLS: odoloc/logic/ and the C++14 constant headers
+#                       (odoloc/rtl/*_constants.hpp) only
 #   soc_software/       never odoloc/rtl/, odoloc/world/, odoloc/board/, odoloc/cli/
 #   host_tools/world/   the C++ standard library and odoloc/world/... only
 #   host_tools/board/   never odoloc/cli/
@@ -15,8 +18,9 @@
 #   host_tools/sim/     never odoloc/cli/ (the host tool's `sim` sits on it)
 #   host_tools/bridge/  never odoloc/rtl/, odoloc/world/, odoloc/board/, odoloc/cli/: the
 #                       register bridge knows LCM, sw::RegisterBus and the register map
-#   hls/include, hls/src  the standard library, odoloc/hls/, the model's C++14
-#                       constant headers (odoloc/rtl/*_constants.hpp) and the
+#   hls/include, hls/src  the standard library, odoloc/hls/, the blocks' logic
+#                       (odoloc/logic/), the model's C++14 constant headers
+#                       (odoloc/rtl/*_constants.hpp) and the
 #                       vendors' type headers only: kernels are exported alone
 #   testbenches/world/  never odoloc/rtl/, odoloc/sw/, odoloc/board/ (the
 #                       world is tested without the model)
@@ -114,8 +118,11 @@ function(check_layer dir description)
 endfunction()
 
 check_layer(rtl_model
-            "the model includes only the standard library, odoloc/rtl/ and the generated headers"
-            ALLOW_STD ALLOW "^odoloc/rtl/" "^odoloc/regs\\.hpp$" "^odoloc/ports\\.hpp$")
+            "the model includes only the standard library, odoloc/rtl/, odoloc/logic/ and the generated headers"
+            ALLOW_STD ALLOW "^odoloc/rtl/" "^odoloc/logic/" "^odoloc/regs\\.hpp$" "^odoloc/ports\\.hpp$")
+check_layer(rtl_model/include/odoloc/logic
+            "the blocks' logic includes only odoloc/logic/ and the model's C++14 constant headers"
+            ALLOW_STD ALLOW "^odoloc/logic/" "^odoloc/rtl/[a-z_0-9]+_constants\\.hpp$")
 check_layer(soc_software "the SoC software never includes the model, the world, the board or the tool"
             DENY "^odoloc/rtl/" "^odoloc/world/" "^odoloc/board/" "^odoloc/cli/")
 check_layer(host_tools/world "the world includes only the standard library and odoloc/world/"
@@ -136,8 +143,8 @@ check_layer(host_tools/bridge
             "the register bridge never includes the model, the world, the board or the tool"
             DENY "^odoloc/rtl/" "^odoloc/world/" "^odoloc/board/" "^odoloc/cli/")
 foreach(dir hls/include hls/src)
-  check_layer(${dir} "a kernel includes only odoloc/hls/, the model's constant headers and the vendor's"
-              ALLOW_STD ALLOW "^odoloc/hls/" "^odoloc/rtl/[a-z_0-9]+_constants\\.hpp$"
+  check_layer(${dir} "a kernel includes only odoloc/hls/, the blocks' logic, the model's constant headers and the vendor's"
+              ALLOW_STD ALLOW "^odoloc/hls/" "^odoloc/logic/" "^odoloc/rtl/[a-z_0-9]+_constants\\.hpp$"
                               "^ap_int\\.h$" "^ac_int\\.h$" "^HLS/(hls|ac_int)\\.h$")
 endforeach()
 check_layer(testbenches/world "the world's tests never include the model, the software or the board"

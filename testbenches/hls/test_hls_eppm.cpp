@@ -268,7 +268,7 @@ void set_phase(he::Inputs& in, int p) {
 
 TEST(HlsEppm, EveryOutputEqualsTheModelEveryCall) {
   const auto check = odoloc::tb::check_kernel<he::Inputs, he::Outputs, he::Registers>(
-      "eppm", 5, odoloc::tb::hls_calls(1000000));
+      "eppm", 5, odoloc::tb::hls_calls(1000000), he::step);
   EXPECT_EQ(check.names_error, "");
   EXPECT_GT(check.calls, 0U);
   EXPECT_EQ(check.mismatches, 0U) << check.first_mismatch;

@@ -109,16 +109,16 @@ std::string register_difference(const hk::Registers& k, const rtl::OdometryFabri
   c("sequencer.updates", k.sequencer.updates, s.updates);
   c("sequencer.overrun", k.sequencer.overrun, s.overrun);
   const auto& q = f.cordic();
-  c("cordic.x", k.cordic.x, q.state.x);
-  c("cordic.y", k.cordic.y, q.state.y);
-  c("cordic.z", k.cordic.z, q.state.z);
-  c("cordic.quadrant", k.cordic.quadrant, q.state.quadrant);
+  c("cordic.x", k.cordic.state.x, q.state.x);
+  c("cordic.y", k.cordic.state.y, q.state.y);
+  c("cordic.z", k.cordic.state.z, q.state.z);
+  c("cordic.quadrant", k.cordic.state.quadrant, q.state.quadrant);
   c("cordic.iteration", k.cordic.iteration, q.iteration);
   c("cordic.busy", k.cordic.busy, q.busy);
   c("cordic.ready", k.cordic.ready, q.ready);
   c("cordic.load_ignored", k.cordic.load_ignored, q.load_ignored);
-  c("cordic.sin", k.cordic.sin, q.result.sin);
-  c("cordic.cos", k.cordic.cos, q.result.cos);
+  c("cordic.sin", k.cordic.result.sin, q.result.sin);
+  c("cordic.cos", k.cordic.result.cos, q.result.cos);
   c("rear.ds", k.rear.ds, f.rear().ds);
   c("rear.dtheta", k.rear.dtheta, f.rear().dtheta);
   const auto& fr = f.front();
@@ -234,7 +234,7 @@ struct Quadrature {
 
 TEST(HlsOdometry, EveryOutputEqualsTheModelEveryClock) {
   const auto check = odoloc::tb::check_kernel<hk::Inputs, hk::Outputs, hk::Registers>(
-      "odometry", 5, odoloc::tb::hls_calls(1000000));
+      "odometry", 5, odoloc::tb::hls_calls(1000000), hk::step);
   EXPECT_EQ(check.names_error, "");
   EXPECT_GT(check.calls, 0U);
   EXPECT_EQ(check.mismatches, 0U) << check.first_mismatch;

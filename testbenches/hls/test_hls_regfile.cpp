@@ -102,7 +102,7 @@ constexpr unsigned kOverrunFlag = regs::top::spi_status::overrun.mask();
 
 TEST(HlsRegfile, EveryOutputEqualsTheModelEveryTransaction) {
   const auto check = odoloc::tb::check_kernel<hr::Inputs, hr::Outputs, hr::Registers>(
-      "regfile", 12, odoloc::tb::hls_calls(30000));
+      "regfile", 12, odoloc::tb::hls_calls(30000), hr::step);
   EXPECT_EQ(check.names_error, "");
   EXPECT_GT(check.calls, 0U);
   EXPECT_EQ(check.mismatches, 0U) << check.first_mismatch;

@@ -215,7 +215,7 @@ class Stimulus {
 
 TEST(HlsTof, EveryOutputEqualsTheModelEveryCall) {
   const auto check = odoloc::tb::check_kernel<ht::Inputs, ht::Outputs, ht::Registers>(
-      "tof", 7, odoloc::tb::hls_calls(200000));
+      "tof", 7, odoloc::tb::hls_calls(200000), ht::step);
   EXPECT_EQ(check.names_error, "");
   EXPECT_GT(check.calls, 0U);
   EXPECT_EQ(check.mismatches, 0U) << check.first_mismatch;

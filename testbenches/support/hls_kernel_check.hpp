@@ -34,10 +34,12 @@ inline std::uint64_t hls_calls(std::uint64_t default_calls) {
   return scaled(default_calls);
 }
 
-// Kernel: Inputs, Outputs, Registers types and step(Registers&, const
-// Inputs&, Outputs&) found by argument-dependent lookup in its namespace.
-template <class Inputs, class Outputs, class Registers>
-KernelCheck check_kernel(std::string_view kernel_name, std::uint64_t seed, std::uint64_t calls) {
+// Kernel: Inputs, Outputs, Registers types, their field lists visit_fields
+// (found by argument-dependent lookup) and its step(Registers&, const
+// Inputs&, Outputs&).
+template <class Inputs, class Outputs, class Registers, class Step>
+KernelCheck check_kernel(std::string_view kernel_name, std::uint64_t seed, std::uint64_t calls,
+                         Step step) {
   KernelCheck result;
   const hls_export::KernelDescription* kernel = hls_export::find_kernel(kernel_name);
   if (kernel == nullptr) {

@@ -95,8 +95,8 @@ constexpr int kShiftBits = 4;
 // Scales are 2^-40 per count, ds and drive 2^-32: the products drop 8 bits.
 constexpr int kScaleShift = 8;
 // 2^-40-turn angles to the CORDIC's 2^-16 turn.
-constexpr int kCordicAngleShift = kThetaBits - cordic::core::kAngleBits;
-constexpr int kSinCosShift = cordic::core::kOutputFractionBits;  // sin, cos are 2^-14
+constexpr int kCordicAngleShift = kThetaBits - rtl::cordic::kAngleBits;
+constexpr int kSinCosShift = rtl::cordic::kOutputFractionBits;  // sin, cos are 2^-14
 
 // Sequencer phases (regmap odometry.status.phase) and min-select policies
 // (odometry.cfg.policy).
@@ -297,10 +297,10 @@ inline sint<N> saturate(const sint<W>& v) {
 
 // A 2^-40-turn angle to the CORDIC's 16-bit binary angle, rounded to nearest
 // (the model's to_cordic_angle). Only the low 40 bits of the angle matter.
-inline cordic::Angle to_cordic_angle(const sint<kHeadingBits + 2>& turns) {
+inline cordic::Logic::Angle to_cordic_angle(const sint<kHeadingBits + 2>& turns) {
 #pragma HLS inline
   const sint<kHeadingBits + 3 - kCordicAngleShift> rounded = round_shr<kCordicAngleShift>(turns);
-  return bits<cordic::core::kAngleBits - 1, 0>(rounded);
+  return bits<rtl::cordic::kAngleBits - 1, 0>(rounded);
 }
 
 // ---- the blocks, each one clock of its model block --------------------------
@@ -390,15 +390,15 @@ inline void front_start(FrontRegs& n, const FrontRegs& r, const Inputs& in) {
 // from the registers of the start step and the CORDIC's result.
 inline void front_finish(FrontRegs& n, const FrontRegs& r, const cordic::Registers& c) {
 #pragma HLS inline
-  const sint<kDriveBits + cordic::core::kOutputFractionBits + 2> ds_units = r.drive * c.cos;
-  const sint<kDriveBits + cordic::core::kOutputFractionBits + 2> dtheta_units =
-      r.turn_per_sin * c.sin;
+  const sint<kDriveBits + rtl::cordic::kOutputFractionBits + 2> ds_units = r.drive * c.result.cos;
+  const sint<kDriveBits + rtl::cordic::kOutputFractionBits + 2> dtheta_units =
+      r.turn_per_sin * c.result.sin;
   n.ds = round_shr<kSinCosShift>(ds_units);
   n.dtheta = round_shr<kSinCosShift - kScaleShift>(dtheta_units);
 }
 
 // The CORDIC's angle for the front unit: the mid-period steering angle.
-inline cordic::Angle steer_angle(const FrontRegs& r) {
+inline cordic::Logic::Angle steer_angle(const FrontRegs& r) {
 #pragma HLS inline
   const sint<kSteerBits + 1> sum = r.phi + r.phi_prev;
   const sint<kSteerBits + 1> mid = sum >> 1;
@@ -406,7 +406,7 @@ inline cordic::Angle steer_angle(const FrontRegs& r) {
 }
 
 // The CORDIC's angle for the pose: the mid-step heading theta + dtheta / 2.
-inline cordic::Angle heading_angle(const PoseRegs& r, const Heading& dtheta) {
+inline cordic::Logic::Angle heading_angle(const PoseRegs& r, const Heading& dtheta) {
 #pragma HLS inline
   const Heading half = dtheta >> 1;
   const sint<kHeadingBits + 2> mid = r.theta + half;
@@ -482,12 +482,12 @@ inline void min_select(SelectRegs& n, const SelectRegs& r, const RearRegs& rear,
 }
 
 // a + ds * factor, modulo 2^64, word by word (the model's add_wrap on SInt<64>).
-inline Wide accumulate(const Wide& a, const Distance& ds, const cordic::Output& factor) {
+inline Wide accumulate(const Wide& a, const Distance& ds, const cordic::Logic::Output& factor) {
 #pragma HLS inline
   // |ds| < 2^47 and |factor| <= 2^14 + a few LSB, so |p| < 2^62.
-  const sint<kDistanceBits + cordic::core::kOutputFractionBits + 1> p = ds * factor;
+  const sint<kDistanceBits + rtl::cordic::kOutputFractionBits + 1> p = ds * factor;
   const uint<kWordBits + 1> lo = a.lo + bits<kWordBits - 1, 0>(p);
-  const sint<kDistanceBits + cordic::core::kOutputFractionBits + 1> p_high = p >> kWordBits;
+  const sint<kDistanceBits + rtl::cordic::kOutputFractionBits + 1> p_high = p >> kWordBits;
   Wide s;
   s.hi = a.hi + p_high + bits<kWordBits, kWordBits>(lo);  // wraps to 32 bits
   s.lo = lo;                                              // the carry leaves
@@ -498,8 +498,8 @@ inline Wide accumulate(const Wide& a, const Distance& ds, const cordic::Output& 
 inline void integrate(PoseRegs& n, const PoseRegs& r, const SelectRegs& s,
                       const cordic::Registers& c) {
 #pragma HLS inline
-  n.x = accumulate(r.x, s.ds, c.cos);
-  n.y = accumulate(r.y, s.ds, c.sin);
+  n.x = accumulate(r.x, s.ds, c.result.cos);
+  n.y = accumulate(r.y, s.ds, c.result.sin);
   n.theta = r.theta + s.dtheta;  // wraps at one turn
 }
 

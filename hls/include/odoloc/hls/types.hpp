@@ -27,6 +27,8 @@
 #endif
 #endif
 
+#include <type_traits>
+
 #if ODOLOC_HLS_TYPES == 1
 #include <ap_int.h>
 #elif ODOLOC_HLS_TYPES == 2 && defined(__INTELFPGA_COMPILER__)
@@ -98,5 +100,55 @@ using own::bits;
 using own::to_s64;
 #endif
 
+// The selected family for the blocks' logic (logic/int_family.hpp).
+struct Family {
+  template <int W>
+  using uint = hls::uint<W>;
+  template <int W>
+  using sint = hls::sint<W>;
+};
+
+namespace detail {
+// What logic/int_family.hpp asks of each named type, in this family's terms.
+template <class T, int W, bool Signed>
+struct VendorTraits {
+  using family = Family;
+  static const int width = W;
+  template <class From>
+  static T wrap(const From& v) {
+    return T(v);  // every family wraps on construction
+  }
+  static long long to_s64(const T& v) { return hls::to_s64(v); }
+  template <int Hi, int Lo>
+  static uint<Hi - Lo + 1> bits(const T& v) {
+    return hls::bits<Hi, Lo>(v);
+  }
+  template <int N>
+  static typename std::conditional<Signed, sint<W + N>, uint<W + N> >::type shl(const T& v) {
+    typedef typename std::conditional<Signed, sint<W + N>, uint<W + N> >::type Wider;
+    const Wider widened = v;  // ap_int and ac_int shift within the operand's width
+    return Wider(widened * (1LL << N));
+  }
+  template <int N>
+  static T shr(const T& v) {
+    return T(v >> N);
+  }
+  template <class A>
+  static T shr_by(const T& v, const A& amount) {
+    return T(v >> amount);
+  }
+};
+}  // namespace detail
+
 }  // namespace hls
+
+namespace logic {
+template <class T>
+struct IntTraits;
+template <int W>
+struct IntTraits<hls::uint<W> > : hls::detail::VendorTraits<hls::uint<W>, W, false> {};
+template <int W>
+struct IntTraits<hls::sint<W> > : hls::detail::VendorTraits<hls::sint<W>, W, true> {};
+}  // namespace logic
+
 }  // namespace odoloc

@@ -19,6 +19,7 @@
 #include <cstddef>
 #include <string_view>
 #include <tuple>
+#include <type_traits>
 
 #include "odoloc/rtl/bits.hpp"
 
@@ -91,6 +92,15 @@ template <class T>
 struct is_std_array : std::false_type {};
 template <class T, std::size_t N>
 struct is_std_array<std::array<T, N>> : std::true_type {};
+// A register bank: a std::array or, in the HLS-style logic, a C array.
+template <class T>
+inline constexpr bool is_bank = is_std_array<T>::value || std::is_array_v<T>;
+template <class T>
+struct bank_extent : std::extent<T> {};
+template <class T, std::size_t N>
+struct bank_extent<std::array<T, N>> : std::integral_constant<std::size_t, N> {};
+template <class T>
+inline constexpr std::size_t bank_size = bank_extent<T>::value;
 
 // "0", "1", ... "255": names of array elements inside the array's scope,
 // built at compile time (the register file's word arrays are the longest).
@@ -115,7 +125,7 @@ inline constexpr IndexNames kIndexNames{};
 }  // namespace detail
 
 // Names one value for a waveform: a UInt/SInt is a signal; a struct with a
-// field list or a std::array is a scope of its members (array elements are
+// field list or an array is a scope of its members (array elements are
 // named by their index).
 template <class V, class T>
 void trace_value(V& v, std::string_view name, const T& value) {
@@ -123,10 +133,10 @@ void trace_value(V& v, std::string_view name, const T& value) {
     v.enter(name);
     visit_fields(value, [&](std::string_view n, const auto& m) { trace_value(v, n, m); });
     v.leave();
-  } else if constexpr (detail::is_std_array<T>::value) {
-    static_assert(std::tuple_size_v<T> <= detail::kMaxIndexNames);
+  } else if constexpr (detail::is_bank<T>) {
+    static_assert(detail::bank_size<T> <= detail::kMaxIndexNames);
     v.enter(name);
-    for (std::size_t i = 0; i < value.size(); ++i)
+    for (std::size_t i = 0; i < detail::bank_size<T>; ++i)
       trace_value(v, detail::kIndexNames[i], value[i]);
     v.leave();
   } else {
@@ -142,7 +152,7 @@ template <class T>
     bool any = false;
     visit_fields(value, [&](std::string_view, const auto& m) { any |= any_set(m); });
     return any;
-  } else if constexpr (detail::is_std_array<T>::value) {
+  } else if constexpr (detail::is_bank<T>) {
     bool any = false;
     for (const auto& element : value)
       any |= any_set(element);
