@@ -33,14 +33,21 @@ class SequentialCordic : public Registers<SequentialCordicRegs> {
 
   // Fast-forward (clocked.hpp): with no input (no LOAD, clear or reset) a
   // busy CORDIC only rotates; skip(n), n <= rotations_left(), runs those n
-  // clocks of the logic in one go, the state kept in locals (eval per clock
-  // goes through the registers in memory every time).
+  // clocks in one go, the state kept in locals: the clocks before the last
+  // rotation only rotate and count (what next() does with no input), the
+  // last one, if among the n, goes through next() for the result.
   [[nodiscard]] std::uint64_t rotations_left() const {
     return r_.busy ? cordic::kIterations - r_.iteration.value() : 0;
   }
   void skip(std::uint64_t n) {
+    const std::uint64_t first = r_.iteration.value();
+    const bool finishes = first + n == cordic::kIterations;
+    const std::uint64_t rotations = finishes ? n - 1 : n;
     Regs next = r_;
-    for (std::uint64_t k = 0; k < n; ++k)
+    for (std::uint64_t k = 0; k < rotations; ++k)
+      next.state = cordic::iterate(next.state, UInt<4>::truncate(first + k));
+    next.iteration = UInt<4>::truncate(first + rotations);
+    if (finishes)
       next = cordic::Logic::next(next, In{});
     commit(next);
   }
