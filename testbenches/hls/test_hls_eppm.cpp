@@ -7,8 +7,8 @@
 //   period counter, armed, the sampled strobes) equals the model's, while the
 //   stimulus demonstrably reaches the corners (carry, borrow, error_count
 //   saturation, mode switches both ways, stall, bound ...);
-// - the decoder's 16 transitions in each of the 4 decode modes equal the
-//   model's table;
+// - the decoder's 16 transitions in each of the 4 decode modes equal a
+//   table derived from the forward A/B sequence;
 // - the documented latency and filter (docs/eppm.md): a pin change first
 //   applied in call t reaches the count in call t + max(N, 1) + 2, a glitch
 //   of N - 1 calls never does;
@@ -45,6 +45,11 @@ namespace rtl = odoloc::rtl;
 using odoloc::hls::to_s64;
 using rtl::SInt;
 using rtl::UInt;
+
+constexpr long long kCountMax = (1LL << (he::ec::kCountBits - 1)) - 1;
+constexpr long long kCountMin = -kCountMax - 1;
+constexpr long long kErrorCountMax = (1LL << he::ec::kErrorCountBits) - 1;
+constexpr long long kTicksMax = (1LL << he::ec::kPeriodBits) - 1;
 
 template <class U>
 void set(U& field, long long value) {
@@ -112,8 +117,8 @@ void walk(K& k, M& m, F&& f) {
   f("conditioner.sync1", k.conditioner.sync1, m.conditioner.sync1);
   f("conditioner.sync2", k.conditioner.sync2, m.conditioner.sync2);
   f("conditioner.filtered", k.conditioner.filtered, m.conditioner.filtered);
-  f("conditioner.stable[0]", k.conditioner.line[0].stable, m.conditioner.stable[0]);
-  f("conditioner.stable[1]", k.conditioner.line[1].stable, m.conditioner.stable[1]);
+  f("conditioner.line[0].stable", k.conditioner.line[0].stable, m.conditioner.line[0].stable);
+  f("conditioner.line[1].stable", k.conditioner.line[1].stable, m.conditioner.line[1].stable);
   f("decoder.prev", k.decoder.prev, m.decoder.prev);
   f("decoder.direction", k.decoder.direction, m.decoder.direction);
   f("decoder.phase_error", k.decoder.phase_error, m.decoder.phase_error);
@@ -311,7 +316,7 @@ TEST(HlsEppm, EveryRegisterEqualsTheModelAndTheStimulusReachesTheCorners) {
     c.carry += rose(out.carry, before.carry);
     c.borrow += rose(out.borrow, before.borrow);
     c.phase_errors += to_s64(out.error_count) != to_s64(before.error_count) ? 1U : 0U;
-    c.error_count_saturated += to_s64(out.error_count) == he::kErrorCountMax ? 1U : 0U;
+    c.error_count_saturated += to_s64(out.error_count) == kErrorCountMax ? 1U : 0U;
     c.to_pulse += rose(out.speed_mode, before.speed_mode);
     c.to_period += rose(before.speed_mode, out.speed_mode);
     c.stalled += rose(out.speed_stalled, before.speed_stalled);
@@ -327,7 +332,7 @@ TEST(HlsEppm, EveryRegisterEqualsTheModelAndTheStimulusReachesTheCorners) {
                          ? 1U
                          : 0U;
     c.near_wrap +=
-        to_s64(out.count) > he::kCountMax - 64 || to_s64(out.count) < he::kCountMin + 64 ? 1U : 0U;
+        to_s64(out.count) > kCountMax - 64 || to_s64(out.count) < kCountMin + 64 ? 1U : 0U;
     ++c.decode_modes[static_cast<std::size_t>(to_s64(in.decode_mode))];
     ++c.reverse[static_cast<std::size_t>(to_s64(in.reverse))];
   }
@@ -369,25 +374,55 @@ TEST(HlsEppm, EveryRegisterEqualsTheModelAndTheStimulusReachesTheCorners) {
   }
 }
 
-// Every (previous, current) pair in every decode mode: the kernel's logic
-// against the model's generated table.
-TEST(HlsEppm, DecoderEqualsTheModelsTable) {
+// Every (previous, current) pair in every decode mode: the decoder's logic
+// (logic/eppm.hpp: the Gray code (B, A^B) read as binary, in this family)
+// against a table derived another way, from the forward sequence of A/B
+// levels AB = 00 -> 10 -> 11 -> 01 and the datasheet rules of x4/x2/x1
+// counting (LS7366R: x1 counts A's edge with B low, x2 A's edges).
+TEST(HlsEppm, DecoderEqualsTheForwardSequenceTable) {
+  using Decoder = odoloc::logic::eppm::QuadratureDecoder<odoloc::hls::Family>;
+  constexpr std::array<int, 4> kSequence = {0b00, 0b10, 0b11, 0b01};  // A in bit 1
+  const auto position = [&](int ab) {
+    return static_cast<int>(std::find(kSequence.begin(), kSequence.end(), ab) - kSequence.begin());
+  };
   int mismatches = 0;
   for (int prev = 0; prev < 4; ++prev) {
     for (int curr = 0; curr < 4; ++curr) {
-      const rtl::QuadTransition& want =
-          rtl::QuadratureDecoder::kTable[static_cast<std::size_t>(prev * 4 + curr)];
+      const int delta = (position(curr) - position(prev) + 4) % 4;
+      const int dir = delta == 1 ? 1 : delta == 3 ? -1 : 0;
+      const bool a_edge = ((prev ^ curr) & 2) != 0;
+      const bool b_low = (prev & 1) == 0 && (curr & 1) == 0;
+      const std::array<int, 4> want = {dir, a_edge ? dir : 0, a_edge && b_low ? dir : 0, dir};
       for (int mode = 0; mode < 4; ++mode) {
-        const he::Transition t = he::decode(prev, curr, mode);
-        const bool moved = want.count[0] != 0;
-        if (to_s64(t.step) != want.count[static_cast<std::size_t>(mode)] ||
-            t.illegal != want.illegal || t.moved != moved ||
-            (moved && t.forward != (want.count[0] > 0)))
+        const Decoder::Transition t = Decoder::decode(prev, curr, mode);
+        if (to_s64(t.step) != want[static_cast<std::size_t>(mode)] || t.illegal != (delta == 2) ||
+            t.moved != (dir != 0) || (dir != 0 && t.forward != (dir > 0)))
           ++mismatches;
       }
     }
   }
   EXPECT_EQ(mismatches, 0);
+}
+
+// The generated port structs of the logic (odoloc/logic/ports.hpp) start at
+// the register map's resets in this family, as the model's do.
+TEST(HlsEppm, LogicPortStructsStartAtTheRegisterMapsResets) {
+  const odoloc::logic::ports::eppm::Config<odoloc::hls::Family> k;
+  const rtl::EppmConfig m{};
+  const auto v = [](auto field) { return static_cast<long long>(field.value()); };
+  EXPECT_EQ(to_s64(k.cfg.filter_clocks), v(m.cfg.filter_clocks));
+  EXPECT_EQ(to_s64(k.cfg.decode_mode), v(m.cfg.decode_mode));
+  EXPECT_EQ(to_s64(k.cfg.speed_mode_select), v(m.cfg.speed_mode_select));
+  EXPECT_EQ(to_s64(k.cfg.reverse), v(m.cfg.reverse));
+  EXPECT_EQ(to_s64(k.window.clocks), v(m.window.clocks));
+  EXPECT_EQ(to_s64(k.prescale.divider), v(m.prescale.divider));
+  EXPECT_EQ(to_s64(k.to_period_below.edges), v(m.to_period_below.edges));
+  EXPECT_EQ(to_s64(k.to_pulse_at.edges), v(m.to_pulse_at.edges));
+  EXPECT_EQ(to_s64(k.stall_ticks.ticks), v(m.stall_ticks.ticks));
+  EXPECT_NE(v(m.window.clocks), 0);  // the resets are not all 0
+  const odoloc::logic::ports::eppm::Status<odoloc::hls::Family> status;
+  EXPECT_EQ(to_s64(status.count.value), 0);
+  EXPECT_EQ(to_s64(status.speed.value), 0);
 }
 
 // docs/eppm.md, "Input conditioning and latency": a change first applied in
@@ -444,23 +479,23 @@ TEST(HlsEppm, CountWrapsWithCarryAndBorrow) {
   in.to_pulse_at = 20;
   pair.hold(in, 10);
   int phase = 0;
-  const long long limit = he::kCountMax + 1;
+  const long long limit = kCountMax + 1;
   // One edge per call (A and B alternate, each held 2 calls) up to the top.
   for (long long e = 0; e < limit - 1; ++e) {
     set_phase(in, ++phase);
     pair.step(in);
   }
   const he::Outputs& top = pair.hold(in, 5);
-  EXPECT_EQ(to_s64(top.count), he::kCountMax);
+  EXPECT_EQ(to_s64(top.count), kCountMax);
   EXPECT_EQ(to_s64(top.carry), 0);
   set_phase(in, ++phase);
   const he::Outputs& wrapped = pair.hold(in, 5);
-  EXPECT_EQ(to_s64(wrapped.count), he::kCountMin);
+  EXPECT_EQ(to_s64(wrapped.count), kCountMin);
   EXPECT_EQ(to_s64(wrapped.carry), 1);
   EXPECT_EQ(to_s64(wrapped.borrow), 0);
   set_phase(in, --phase);
   const he::Outputs& back = pair.hold(in, 5);
-  EXPECT_EQ(to_s64(back.count), he::kCountMax);
+  EXPECT_EQ(to_s64(back.count), kCountMax);
   EXPECT_EQ(to_s64(back.borrow), 1);
   // Clear both; the wrap again, with a latch_clear and a carry clear in the
   // clock the counter sees the edge (the 4th call after the pin: filter
@@ -477,7 +512,7 @@ TEST(HlsEppm, CountWrapsWithCarryAndBorrow) {
   in.latch_clear = 1;
   in.clear_carry = 1;
   const he::Outputs& latched = pair.step(in);
-  EXPECT_EQ(to_s64(latched.latched), he::kCountMin);
+  EXPECT_EQ(to_s64(latched.latched), kCountMin);
   EXPECT_EQ(to_s64(latched.count), 0);
   EXPECT_EQ(to_s64(latched.carry), 1);
   EXPECT_EQ(to_s64(latched.borrow), 0);
@@ -494,13 +529,13 @@ TEST(HlsEppm, CountWrapsWithCarryAndBorrow) {
     pair.step(in);
   }
   const he::Outputs& bottom = pair.hold(in, 5);
-  EXPECT_EQ(to_s64(bottom.count), he::kCountMin);
+  EXPECT_EQ(to_s64(bottom.count), kCountMin);
   EXPECT_EQ(to_s64(bottom.borrow), 0);
   set_phase(in, --phase);
   pair.hold(in, 3);
   in.clear_borrow = 1;
   const he::Outputs& under = pair.step(in);
-  EXPECT_EQ(to_s64(under.count), he::kCountMax);
+  EXPECT_EQ(to_s64(under.count), kCountMax);
   EXPECT_EQ(to_s64(under.borrow), 1);
   EXPECT_EQ(pair.differences(), 0U) << pair.first();
 }
@@ -513,13 +548,13 @@ TEST(HlsEppm, ErrorCountSaturatesAndClears) {
   in.filter_clocks = 0;
   pair.hold(in, 10);
   int phase = 0;
-  for (long long k = 0; k < he::kErrorCountMax + 100; ++k) {
+  for (long long k = 0; k < kErrorCountMax + 100; ++k) {
     phase += 2;  // both lines flip together
     set_phase(in, phase);
     pair.step(in);
   }
   const he::Outputs& full = pair.hold(in, 5);
-  EXPECT_EQ(to_s64(full.error_count), he::kErrorCountMax);
+  EXPECT_EQ(to_s64(full.error_count), kErrorCountMax);
   EXPECT_EQ(to_s64(full.phase_error), 1);
   in.clear_phase_error = 1;
   const he::Outputs& cleared = pair.step(in);
@@ -562,9 +597,9 @@ TEST(HlsEppm, PeriodCounterSaturatesAfterAStandstill) {
   const he::Outputs& still = pair.hold(in, 1000);
   EXPECT_EQ(to_s64(still.period_overflow), 1);
   EXPECT_EQ(to_s64(still.speed_bound), 1);
-  EXPECT_EQ(to_s64(still.speed_value), he::kTicksMax);
+  EXPECT_EQ(to_s64(still.speed_value), kTicksMax);
   // The speed word reads this call's stall_ticks: stalled at once.
-  in.stall_ticks = he::kTicksMax;
+  in.stall_ticks = kTicksMax;
   const he::Outputs& stalled = pair.step(in);
   EXPECT_EQ(to_s64(stalled.speed_stalled), 1);
   EXPECT_EQ(to_s64(stalled.speed_value), 0);
@@ -576,7 +611,7 @@ TEST(HlsEppm, PeriodCounterSaturatesAfterAStandstill) {
   EXPECT_EQ(to_s64(saturated.period_overflow), 1);  // still saturated: set again
   set_phase(in, ++phase);
   const he::Outputs& sample = pair.hold(in, 10);
-  EXPECT_EQ(to_s64(sample.period_last_ticks), he::kTicksMax);
+  EXPECT_EQ(to_s64(sample.period_last_ticks), kTicksMax);
   EXPECT_EQ(to_s64(sample.period_last_valid), 0);
   EXPECT_EQ(pair.differences(), 0U) << pair.first();
 }

@@ -148,7 +148,8 @@ void walk(ht::Registers& k, ModelRegs& m, F&& f) {
   f(Where{"sync2"}, k.conditioner.sync2, m.conditioner.sync2);
   f(Where{"filtered"}, k.conditioner.filtered, m.conditioner.filtered);
   for (std::size_t l = 0; l < kChannels + 1; ++l)
-    f(Where{"stable", static_cast<int>(l)}, k.conditioner.line[l].stable, m.conditioner.stable[l]);
+    f(Where{"stable", static_cast<int>(l)}, k.conditioner.line[l].stable,
+      m.conditioner.line[l].stable);
   f(Where{"prescale_count"}, k.prescale_count, m.timebase.prescale_count);
   f(Where{"timestamp"}, k.timestamp, m.timebase.timestamp);
   f(Where{"sync.level"}, k.sync_level, m.sync.level);

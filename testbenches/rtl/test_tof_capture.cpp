@@ -471,8 +471,8 @@ TEST(LeafIdleContract, InputConditionerOfNineLines) {
       33,
       [](Rng& rng) {
         Conditioner::Regs r{random_uint<9>(rng), random_uint<9>(rng), random_uint<9>(rng), {}};
-        for (auto& s : r.stable)
-          s = UInt<8>::truncate(one_in(rng, 2) ? 0 : rng() % 6);
+        for (auto& line : r.line)
+          line.stable = UInt<8>::truncate(one_in(rng, 2) ? 0 : rng() % 6);
         return r;
       },
       [&](Rng& rng) {

@@ -30,11 +30,8 @@ struct FieldWalk {
         walk(path + std::string(name) + (HasFields<std::decay_t<decltype(member)>> ? "." : ""),
              member);
       });
-    } else if constexpr (requires {
-                           value.size();
-                           value[0];
-                         }) {
-      for (std::size_t i = 0; i < value.size(); ++i)
+    } else if constexpr (odoloc::rtl::detail::is_bank<T>) {  // std::array or C array
+      for (std::size_t i = 0; i < odoloc::rtl::detail::bank_size<T>; ++i)
         walk(path + "." + std::to_string(i) +
                  (HasFields<std::decay_t<decltype(value[0])>> ? "." : ""),
              value[i]);

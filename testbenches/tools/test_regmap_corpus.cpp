@@ -122,12 +122,27 @@ void check_markdown(const rm::RegisterMap& map, const std::string& md) {
   }
 }
 
+// The C++ compiler's syntax check of one file, warnings as errors: C++20
+// with -Wpedantic, or C++14 (what the HLS front ends take) with
+// -pedantic-errors.
+odoloc::process::ProgramResult check_cxx(int standard, const fs::path& file,
+                                         const std::vector<fs::path>& includes) {
+  std::string command =
+      std::string(ODOLOC_CXX) +
+      (standard == 14 ? " -std=c++14 -pedantic-errors" : " -std=c++20 -Wpedantic") +
+      " -Wall -Wextra -Wshadow -Wconversion -Wold-style-cast -Werror -fsyntax-only";
+  for (const fs::path& include : includes)
+    command += " -I" + quote(include);
+  return run(command + " " + quote(file));
+}
+
 // Every output of an accepted map, compiled or checked by its real tool.
 void check_outputs(const std::string& name, const rm::RegisterMap& map) {
   TempDir dir(name);
   const fs::path inc = dir.path / "include";
   write_file(inc / "odoloc/regs.hpp", rm::emit_cpp(map));
   write_file(inc / "odoloc/ports.hpp", rm::emit_ports(map));
+  write_file(inc / "odoloc/logic/ports.hpp", rm::emit_logic_ports(map));
   write_file(inc / "odoloc/hls/regfile_map.hpp", rm::emit_hls(map));
   write_file(inc / "odoloc_regs.h", rm::emit_c(map));
   write_file(dir.path / "map.rdl", rm::emit_systemrdl(map));
@@ -206,11 +221,7 @@ void check_outputs(const std::string& name, const rm::RegisterMap& map) {
              "  for (const auto& w : odoloc::regs::kPopWindows)\n"
              "    odoloc::ports::decode_pops(w.first, w.entries, p);\n"
              "  return static_cast<int>(n & 1U);\n}\n");
-  const auto cpp =
-      run(std::string(ODOLOC_CXX) +
-          " -std=c++20 -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wold-style-cast -Werror "
-          "-fsyntax-only -I" +
-          quote(inc) + " -I" + quote(ODOLOC_RTL_INCLUDE) + " " + quote(dir.path / "use.cpp"));
+  const auto cpp = check_cxx(20, dir.path / "use.cpp", {inc, ODOLOC_RTL_INCLUDE});
   EXPECT_EQ(cpp.exit_status, 0) << cpp.message;
 
   // The HLS kernels' map: ISO C++14, every table read.
@@ -224,11 +235,30 @@ void check_outputs(const std::string& name, const rm::RegisterMap& map) {
              "    n += static_cast<unsigned>(m::kPopWindows[w].first) +\n"
              "         (m::kPopWindowNames[w][0] != '\\0' ? 1U : 0U);\n"
              "  return static_cast<int>(n & 1U);\n}\n");
-  const auto hls = run(std::string(ODOLOC_CXX) +
-                       " -std=c++14 -pedantic-errors -Wall -Wextra -Wshadow -Wconversion "
-                       "-Wold-style-cast -Werror -fsyntax-only -I" +
-                       quote(inc) + " " + quote(dir.path / "use_hls.cpp"));
+  const auto hls = check_cxx(14, dir.path / "use_hls.cpp", {inc});
   EXPECT_EQ(hls.exit_status, 0) << hls.message;
+
+  // The port structs of the blocks' logic: ISO C++14, every block's three
+  // structs instantiated over a family of integers built from host integers.
+  std::ostringstream logic;
+  logic
+      << "#include \"odoloc/logic/ports.hpp\"\n"
+      << "template <int W> struct U { unsigned long long v; U(unsigned long long x) : v(x) {} };\n"
+      << "template <int W> struct S { long long v; S(long long x) : v(x) {} };\n"
+      << "struct Family {\n  template <int W> using uint = U<W>;\n"
+      << "  template <int W> using sint = S<W>;\n};\n"
+      << "int main() {\n";
+  for (const auto& b : map.blocks) {
+    if (b.reserved)
+      continue;
+    for (const char* port : {"Config", "Pulses", "Status"})
+      logic << "  const odoloc::logic::ports::" << b.name << "::" << port << "<Family> " << b.name
+            << "_" << port << ";\n  static_cast<void>(" << b.name << "_" << port << ");\n";
+  }
+  logic << "  return 0;\n}\n";
+  write_file(dir.path / "use_logic.cpp", logic.str());
+  const auto logic_ports = check_cxx(14, dir.path / "use_logic.cpp", {inc, ODOLOC_RTL_INCLUDE});
+  EXPECT_EQ(logic_ports.exit_status, 0) << logic_ports.message;
 
   // SystemRDL: the real compiler and exporter.
   if (fs::exists(ODOLOC_RDL_CHECK)) {

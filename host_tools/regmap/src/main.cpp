@@ -32,10 +32,12 @@ void write_if_changed(const std::string& path, const std::string& text) {
 
 int main(int argc, char** argv) {
   CLI::App app{"odoloc register-map generator"};
-  std::string input, cpp, ports, hls, c, rdl, markdown;
+  std::string input, cpp, ports, logic_ports, hls, c, rdl, markdown;
   app.add_option("--input", input, "register description (YAML)")->required();
   app.add_option("--cpp", cpp, "C++ header to write");
   app.add_option("--ports", ports, "C++ header of the fabric's typed ports to write");
+  app.add_option("--logic-ports", logic_ports,
+                 "C++14 header of the ports over an integer-type family to write");
   app.add_option("--hls", hls, "C++14 header of the map for the HLS kernels to write");
   app.add_option("--c", c, "C header to write");
   app.add_option("--rdl", rdl, "SystemRDL 2.0 file to write");
@@ -45,6 +47,7 @@ int main(int argc, char** argv) {
     const auto map = odoloc::regmap::load(input);
     write_if_changed(cpp, odoloc::regmap::emit_cpp(map));
     write_if_changed(ports, odoloc::regmap::emit_ports(map));
+    write_if_changed(logic_ports, odoloc::regmap::emit_logic_ports(map));
     write_if_changed(hls, odoloc::regmap::emit_hls(map));
     write_if_changed(c, odoloc::regmap::emit_c(map));
     write_if_changed(rdl, odoloc::regmap::emit_systemrdl(map));

@@ -3,7 +3,7 @@
 // (rtl_model/include/odoloc/rtl/tof_capture.hpp, docs/tof-capture.md), in
 // odoloc::hls integer types (types.hpp: ap_int.h, ac_int.h or the project's
 // own). C++14. Inside: the input conditioner of the 9 lines (2-flop
-// synchroniser and level filter, rtl::InputConditioner<9>), the timebase
+// synchroniser and level filter, logic/input_conditioner.hpp), the timebase
 // (prescaler, 32-bit timestamp, epoch strobe), the sync input and 8 receiver
 // channels, each with a 16-entry event FIFO.
 //
@@ -53,8 +53,8 @@
 // containers, no floating point, static loop bounds.
 #pragma once
 
-#include "odoloc/hls/input_conditioner.hpp"
 #include "odoloc/hls/types.hpp"
+#include "odoloc/logic/input_conditioner.hpp"
 #include "odoloc/rtl/tof_constants.hpp"
 
 namespace odoloc {
@@ -168,7 +168,7 @@ struct Channel {  // rtl::TofChannelRegs<kDepth>
 };
 
 struct Registers {
-  InputConditioner<kLines, tc::kFilterBits> conditioner;
+  logic::conditioner::Regs<Family, kLines> conditioner;
   uint<tc::kPrescaleBits> prescale_count = 0;  // the timebase
   Timestamp timestamp = 0;
   uint<1> sync_level = 0;  // the sync input
@@ -550,7 +550,10 @@ inline void step(Registers& regs, const Inputs& in, Outputs& out) {
   } else {
     const Wires w = wires(r, in);
     const Lines sync = in.sync;  // widened before the shift
-    condition(n.conditioner, r.conditioner, (sync << kChannels) | in.comparators, in.filter_clocks);
+    logic::conditioner::In<Family, kLines> pins;
+    pins.pins = (sync << kChannels) | in.comparators;
+    pins.filter_clocks = in.filter_clocks;
+    n.conditioner = logic::conditioner::InputConditioner<Family, kLines>::next(r.conditioner, pins);
     count_time(n, r, in);
     clock_sync(n, r, w, in);
   channel_loop:

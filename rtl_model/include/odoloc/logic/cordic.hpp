@@ -112,17 +112,11 @@ struct Cordic {
     const Xy dx = shr_by(s.y, shift);
     const Xy dy = shr_by(s.x, shift);
     const Z angle = wrap<Z>(constants::kAtan.units[to_s64(k)]);
-    State<F> n = s;
-    if (s.z < Z(0)) {
-      n.x = wrap<Xy>(s.x + dx);
-      n.y = wrap<Xy>(s.y - dy);
-      n.z = wrap<Z>(s.z + angle);
-    } else {
-      n.x = wrap<Xy>(s.x - dx);
-      n.y = wrap<Xy>(s.y + dy);
-      n.z = wrap<Z>(s.z - angle);
-    }
-    return n;
+    // Built whole (not a copy patched field by field), so the state stays in
+    // registers across the fast-forward's loop of rotations.
+    if (s.z < Z(0))
+      return State<F>{wrap<Xy>(s.x + dx), wrap<Xy>(s.y - dy), wrap<Z>(s.z + angle), s.quadrant};
+    return State<F>{wrap<Xy>(s.x - dx), wrap<Xy>(s.y + dy), wrap<Z>(s.z - angle), s.quadrant};
   }
 
   // Round to nearest (half up) into 14 fractional bits, then undo the pre-rotation.

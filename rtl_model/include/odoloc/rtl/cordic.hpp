@@ -43,9 +43,11 @@ class SequentialCordic : public Registers<SequentialCordicRegs> {
     const std::uint64_t first = r_.iteration.value();
     const bool finishes = first + n == cordic::kIterations;
     const std::uint64_t rotations = finishes ? n - 1 : n;
-    Regs next = r_;
+    cordic::State state = r_.state;  // a local: kept in registers
     for (std::uint64_t k = 0; k < rotations; ++k)
-      next.state = cordic::iterate(next.state, UInt<4>::truncate(first + k));
+      state = cordic::iterate(state, UInt<4>::truncate(first + k));
+    Regs next = r_;
+    next.state = state;
     next.iteration = UInt<4>::truncate(first + rotations);
     if (finishes)
       next = cordic::Logic::next(next, In{});

@@ -106,15 +106,27 @@ struct IntTraits<rtl::SInt<W>> : ModelIntTraits<rtl::SInt<W>> {};
 // Field list and == of a logic struct instantiated with rtl::Family, in
 // namespace odoloc::rtl (found by argument-dependent lookup through the
 // family). TYPE is the template, e.g. logic::cordic::State.
+// ODOLOC_LOGIC_FIELDS_OF((PARAMETERS), (TYPE), members...) does the same for
+// a template with more parameters: ((int Lines), (logic::conditioner::Regs<
+// Family, Lines>), ...).
+#define ODOLOC_UNPAREN(...) __VA_ARGS__
 #define ODOLOC_LOGIC_VISIT(name) f(#name, s.name);
 #define ODOLOC_LOGIC_EQUAL(name) &&::odoloc::rtl::detail::equal_value(a.name, b.name)
-#define ODOLOC_LOGIC_FIELDS(TYPE, ...)                                                  \
-  template <class F>                                                                    \
-  constexpr void for_each_field(const TYPE<::odoloc::rtl::Family>& s, F&& f) {          \
+#define ODOLOC_LOGIC_FIELDS_BODY(TYPE, ...)                                             \
+  constexpr void for_each_field(const TYPE& s, F&& f) {                                 \
     [[maybe_unused]] const auto& [ODOLOC_BINDINGS(__VA_ARGS__)] = s; /* every member */ \
     ODOLOC_FOR_EACH(ODOLOC_LOGIC_VISIT, __VA_ARGS__)                                    \
-  }                                                                                     \
-  constexpr bool operator==(const TYPE<::odoloc::rtl::Family>& a,                       \
-                            const TYPE<::odoloc::rtl::Family>& b) {                     \
-    return true ODOLOC_FOR_EACH(ODOLOC_LOGIC_EQUAL, __VA_ARGS__);                       \
   }
+#define ODOLOC_LOGIC_EQUAL_BODY(TYPE, ...)                        \
+  constexpr bool operator==(const TYPE& a, const TYPE& b) {       \
+    return true ODOLOC_FOR_EACH(ODOLOC_LOGIC_EQUAL, __VA_ARGS__); \
+  }
+#define ODOLOC_LOGIC_FIELDS(TYPE, ...)                               \
+  template <class F>                                                 \
+  ODOLOC_LOGIC_FIELDS_BODY(TYPE<::odoloc::rtl::Family>, __VA_ARGS__) \
+  ODOLOC_LOGIC_EQUAL_BODY(TYPE<::odoloc::rtl::Family>, __VA_ARGS__)
+#define ODOLOC_LOGIC_FIELDS_OF(PARAMETERS, TYPE, ...)        \
+  template <ODOLOC_UNPAREN PARAMETERS, class F>              \
+  ODOLOC_LOGIC_FIELDS_BODY(ODOLOC_UNPAREN TYPE, __VA_ARGS__) \
+  template <ODOLOC_UNPAREN PARAMETERS>                       \
+  ODOLOC_LOGIC_EQUAL_BODY(ODOLOC_UNPAREN TYPE, __VA_ARGS__)

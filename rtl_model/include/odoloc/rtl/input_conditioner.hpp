@@ -1,68 +1,45 @@
 // Input conditioning of asynchronous pins: two synchroniser flops, then a
-// level filter per line. One piece of logic for every pin bank of the fabric:
-// the EPPM's A/B pair (docs/eppm.md) and the ultrasonic comparators and sync
-// input of the TOF capture unit (docs/tof-capture.md).
-//
-// Per line, a counter of consecutive samples whose level differs from the
-// filtered level; the new level is taken on the N-th such sample (N =
-// max(filter_clocks, 1)) and any sample equal to the filtered level restarts
-// the count. A pulse of N clocks passes, one of N-1 clocks is rejected. A pin
-// change first applied in clock t reaches `filtered` at the edge ending clock
-// t+N+1 (docs/eppm.md, "Input conditioning and latency").
+// level filter per line, for every pin bank of the fabric (the EPPM's A/B
+// pair, the TOF capture unit's comparators and sync input). The logic:
+// logic/input_conditioner.hpp (the one source, also the HLS kernels'). Here:
+// what only a simulator needs around it (field lists, settled, idle, the
+// fast-forward).
 #pragma once
 
-#include <array>
 #include <cstddef>
 #include <cstdint>
-#include <utility>
 
+#include "odoloc/logic/input_conditioner.hpp"
 #include "odoloc/rtl/bits.hpp"
 #include "odoloc/rtl/clocked.hpp"
+#include "odoloc/rtl/family.hpp"
 
 namespace odoloc::rtl {
 
+ODOLOC_LOGIC_FIELDS(logic::conditioner::Line, stable)
+ODOLOC_LOGIC_FIELDS_OF((int Lines), (logic::conditioner::Regs<Family, Lines>), sync1, sync2,
+                       filtered, line)
+
 // Lines travel packed, line i in bit i.
 template <int Lines>
-struct InputConditionerRegs {
-  UInt<Lines> sync1, sync2, filtered;
-  std::array<UInt<8>, Lines> stable{};  // per line: consecutive samples differing from `filtered`
-  bool operator==(const InputConditionerRegs&) const = default;
-  ODOLOC_FIELDS(sync1, sync2, filtered, stable)
-};
+using InputConditionerRegs = logic::conditioner::Regs<Family, Lines>;
 
 template <int Lines>
 class InputConditioner : public Registers<InputConditionerRegs<Lines>> {
   using Base = Registers<InputConditionerRegs<Lines>>;
   using Base::r_;
+  using Logic = logic::conditioner::InputConditioner<Family, Lines>;
 
  public:
   using Regs = typename Base::Regs;
-  struct In {
-    UInt<Lines> pins;
-    UInt<8> filter_clocks;
-    UInt<1> reset;
-  };
+  using In = logic::conditioner::In<Family, Lines>;
 
-  [[nodiscard]] Regs eval(const In& in) const {
-    if (in.reset)
-      return Regs{};
-    // One aggregate of scalars, so the next state stays in registers.
-    return [&]<std::size_t... I>(std::index_sequence<I...>) {
-      const std::array<Line, Lines> lines{filter_line<I>(in.filter_clocks)...};
-      return InputConditionerRegs<Lines>{
-          .sync1 = in.pins,
-          .sync2 = r_.sync1,
-          .filtered = UInt<Lines>::truncate(((std::uint64_t{lines[I].level.value()} << I) | ...)),
-          .stable = {lines[I].stable...}};
-    }
-    (std::make_index_sequence<Lines>{});
-  }
+  [[nodiscard]] Regs eval(const In& in) const { return Logic::next(r_, in); }
   // Every stage holds the pins and no filter count runs.
   [[nodiscard]] bool settled() const {
-    const bool counting = [&]<std::size_t... I>(std::index_sequence<I...>) {
-      return (... || !r_.stable[I].is_zero());
-    }
-    (std::make_index_sequence<Lines>{});
+    bool counting = false;
+    for (const auto& line : r_.line)
+      counting |= !line.stable.is_zero();
     return r_.sync1 == r_.sync2 && r_.sync2 == r_.filtered && !counting;
   }
   [[nodiscard]] bool idle(const In& in) const {
@@ -91,28 +68,9 @@ class InputConditioner : public Registers<InputConditionerRegs<Lines>> {
       const std::uint64_t changing = (pins.value() ^ r_.filtered.value());
       for (std::size_t i = 0; i < Lines; ++i)
         if (((changing >> i) & 1U) != 0)
-          n.stable[i] = UInt<8>::truncate(k - 2);  // k - 2 < N <= 255
+          n.line[i].stable = UInt<8>::truncate(k - 2);  // k - 2 < N <= 255
     }
     return n;
-  }
-
- private:
-  struct Line {
-    UInt<1> level;
-    UInt<8> stable;
-  };
-  // Line I: a sample equal to the filtered level restarts the count; the
-  // N-th consecutive differing one (N <= 1: the first) is taken.
-  template <std::size_t I>
-  [[nodiscard]] Line filter_line(UInt<8> filter_clocks) const {
-    const auto sample = UInt<1>::truncate(r_.sync2.value() >> I);
-    const auto level = UInt<1>::truncate(r_.filtered.value() >> I);
-    if (sample == level)
-      return {level, UInt<8>{}};
-    const UInt<9> seen = r_.stable[I] + UInt<1>{1};
-    if (seen >= filter_clocks)
-      return {sample, UInt<8>{}};
-    return {level, seen.template wrap<8>()};  // seen < N <= 255
   }
 };
 

@@ -176,20 +176,21 @@ struct TofChannelRegs {
   ODOLOC_FIELDS(level, armed, done, in_progress, epochs, rise, edges, ignored, fifo)
 };
 // The register widths the HLS kernel mirrors by name (tof_constants.hpp).
-static_assert(
-    decltype(TofEvent::ticks)::width == tof_capture::kTimestampBits &&
-    decltype(TofEvent::width)::width == tof_capture::kWidthBits &&
-    decltype(TofEvent::edge)::width == tof_capture::kEdgeIndexBits &&
-    decltype(TofChannelRegs<8>::epochs)::width == tof_capture::kEpochCountBits &&
-    decltype(TofChannelRegs<8>::edges)::width == tof_capture::kEdgeCountBits &&
-    decltype(TofChannelRegs<8>::ignored)::width == tof_capture::kCounterBits &&
-    decltype(CaptureFifo<TofEvent, 8>::head)::width == tof_capture::kHeadBits &&
-    decltype(CaptureFifo<TofEvent, 8>::level)::width == tof_capture::kLevelBits &&
-    decltype(CaptureFifo<TofEvent, 8>::dropped)::width == tof_capture::kCounterBits &&
-    decltype(TofTimebaseRegs::prescale_count)::width == tof_capture::kPrescaleBits &&
-    decltype(ports::tof_channel::Pulses::EntryReg::pops)::width == tof_capture::kPopBits &&
-    decltype(ports::tof::Config::CfgReg::filter_clocks)::width == tof_capture::kFilterBits &&
-    decltype(InputConditionerRegs<1>::stable)::value_type::width == tof_capture::kFilterBits);
+static_assert(decltype(TofEvent::ticks)::width == tof_capture::kTimestampBits &&
+              decltype(TofEvent::width)::width == tof_capture::kWidthBits &&
+              decltype(TofEvent::edge)::width == tof_capture::kEdgeIndexBits &&
+              decltype(TofChannelRegs<8>::epochs)::width == tof_capture::kEpochCountBits &&
+              decltype(TofChannelRegs<8>::edges)::width == tof_capture::kEdgeCountBits &&
+              decltype(TofChannelRegs<8>::ignored)::width == tof_capture::kCounterBits &&
+              decltype(CaptureFifo<TofEvent, 8>::head)::width == tof_capture::kHeadBits &&
+              decltype(CaptureFifo<TofEvent, 8>::level)::width == tof_capture::kLevelBits &&
+              decltype(CaptureFifo<TofEvent, 8>::dropped)::width == tof_capture::kCounterBits &&
+              decltype(TofTimebaseRegs::prescale_count)::width == tof_capture::kPrescaleBits &&
+              decltype(ports::tof_channel::Pulses::EntryReg::pops)::width ==
+                  tof_capture::kPopBits &&
+              decltype(ports::tof::Config::CfgReg::filter_clocks)::width ==
+                  tof_capture::kFilterBits &&
+              logic::conditioner::kFilterBits == tof_capture::kFilterBits);
 
 template <std::size_t Depth>
 class TofChannel : public Registers<TofChannelRegs<Depth>> {

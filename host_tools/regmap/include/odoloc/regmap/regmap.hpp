@@ -163,6 +163,9 @@ std::vector<PopWindow> pop_windows(const RegisterMap& map);
 std::string emit_cpp(const RegisterMap& map);
 // odoloc/ports.hpp: typed register <-> hardware port structs, decode/encode.
 std::string emit_ports(const RegisterMap& map);
+// odoloc/logic/ports.hpp: the same port structs over an integer-type family,
+// C++14, for the blocks' logic and the HLS kernels.
+std::string emit_logic_ports(const RegisterMap& map);
 // odoloc/hls/regfile_map.hpp: the same facts as emit_cpp in plain C++14, for the
 // HLS kernels (constexpr integers and tables).
 std::string emit_hls(const RegisterMap& map);
