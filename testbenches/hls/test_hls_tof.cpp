@@ -119,12 +119,14 @@ std::string describe(const Where& w) {
   return text;
 }
 
-template <class F>
-void walk_entry(const Where& w, ht::SyncEvent& k, UInt<32>& m, F& f) {
-  f(w, k.ticks, m);
+template <class K, class M, class F>
+void walk_entry(const Where& w, odoloc::logic::tof::SyncEvent<K>& k,
+                odoloc::logic::tof::SyncEvent<M>& m, F& f) {
+  f(w, k.ticks, m.ticks);
 }
-template <class F>
-void walk_entry(const Where& w, ht::Event& k, rtl::TofEvent& m, F& f) {
+template <class K, class M, class F>
+void walk_entry(const Where& w, odoloc::logic::tof::Event<K>& k, odoloc::logic::tof::Event<M>& m,
+                F& f) {
   f(Where{"fifo.ticks", w.index, w.slot}, k.ticks, m.ticks);
   f(Where{"fifo.width", w.index, w.slot}, k.width, m.width);
   f(Where{"fifo.edge", w.index, w.slot}, k.edge, m.edge);
@@ -150,12 +152,12 @@ void walk(ht::Registers& k, ModelRegs& m, F&& f) {
   for (std::size_t l = 0; l < kChannels + 1; ++l)
     f(Where{"stable", static_cast<int>(l)}, k.conditioner.line[l].stable,
       m.conditioner.line[l].stable);
-  f(Where{"prescale_count"}, k.prescale_count, m.timebase.prescale_count);
-  f(Where{"timestamp"}, k.timestamp, m.timebase.timestamp);
-  f(Where{"sync.level"}, k.sync_level, m.sync.level);
-  walk_fifo(-1, k.sync_fifo, m.sync.fifo, f);
+  f(Where{"prescale_count"}, k.timebase.prescale_count, m.timebase.prescale_count);
+  f(Where{"timestamp"}, k.timebase.timestamp, m.timebase.timestamp);
+  f(Where{"sync.level"}, k.sync.level, m.sync.level);
+  walk_fifo(-1, k.sync.fifo, m.sync.fifo, f);
   for (std::size_t i = 0; i < kChannels; ++i) {
-    ht::Channel& kc = k.rx[i];
+    auto& kc = k.rx[i];
     Channel::Regs& mc = m.channel[i];
     const int c = static_cast<int>(i);
     f(Where{"level", c}, kc.level, mc.level);

@@ -86,7 +86,7 @@ struct ChannelBench {
     std::vector<TofEvent> out;
     const auto& f = channel.regs().fifo;
     for (std::size_t k = 0; k < f.level.value(); ++k)
-      out.push_back(f.at(k));
+      out.push_back(odoloc::rtl::fifo_entry(f, k));
     return out;
   }
 };
@@ -281,11 +281,13 @@ TEST(TofCapture, LatencyFromPinToTimestampIsExact) {
       const auto ts = [&](std::uint64_t clock) { return clock / (p + 1); };
       const auto& fifo = b.unit.channel(0).fifo;
       ASSERT_EQ(fifo.level.value(), 1U) << n << " " << p;
-      EXPECT_EQ(fifo.at(0).ticks.value(), ts(rise + latency)) << "N " << n << " p " << p;
-      EXPECT_EQ(fifo.at(0).width.value(), ts(rise + width + latency) - ts(rise + latency))
+      EXPECT_EQ(odoloc::rtl::fifo_entry(fifo, 0).ticks.value(), ts(rise + latency))
+          << "N " << n << " p " << p;
+      EXPECT_EQ(odoloc::rtl::fifo_entry(fifo, 0).width.value(),
+                ts(rise + width + latency) - ts(rise + latency))
           << "N " << n << " p " << p;
       ASSERT_EQ(b.unit.sync().fifo.level.value(), 1U);
-      EXPECT_EQ(b.unit.sync().fifo.at(0).value(), ts(rise + latency));
+      EXPECT_EQ(odoloc::rtl::fifo_entry(b.unit.sync().fifo, 0).ticks.value(), ts(rise + latency));
       EXPECT_EQ(b.unit.channel(1).fifo.level.value(), 0U) << "channel 1 is not armed";
     }
   }

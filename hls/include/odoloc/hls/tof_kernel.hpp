@@ -46,15 +46,16 @@
 // in the outputs of that call; a glitch shorter than N calls never reaches a
 // channel. Reset: the `reset` port, and the registers' initial values (all 0).
 //
-// The widths and parameters are the model's own (rtl/tof_constants.hpp, which
-// the model static_asserts against its register types), so the kernel cannot
-// drift from them; test_hls_tof_* proves every output equal to the model's on
-// every call, and every register equal, per type family. No heap, no
-// containers, no floating point, static loop bounds.
+// The logic is the model's own (logic/tof_capture.hpp, which the cycle model
+// rtl::TofCapture runs): this file maps the kernel's flat ports onto the
+// register map's port structs (odoloc/logic/ports.hpp) and back, nothing
+// else. test_hls_tof_* checks every output and register against the model
+// per type family. No heap, no containers, no floating point, static loop
+// bounds.
 #pragma once
 
 #include "odoloc/hls/types.hpp"
-#include "odoloc/logic/input_conditioner.hpp"
+#include "odoloc/logic/tof_capture.hpp"
 #include "odoloc/rtl/tof_constants.hpp"
 
 namespace odoloc {
@@ -139,42 +140,9 @@ struct Outputs {
   ChannelStatus rx[kChannels];
 };
 
-// ---- registers (the model's, by name; arrays of structs so that every element
-// gets its reset value from the default member initialisers) ------------------------
-struct Event {  // rtl::TofEvent
-  Timestamp ticks = 0;
-  Width width = 0;
-  EdgeIndex edge = 0;
-};
-struct SyncEvent {
-  Timestamp ticks = 0;
-};
-template <class Entry>
-struct Fifo {  // rtl::CaptureFifo<Entry, kDepth>
-  Entry slots[kDepth];
-  uint<tc::kHeadBits> head = 0;  // oldest entry
-  Level level = 0;
-  Level snapshot_level = 0;  // level when the current read frame started
-  uint<1> overflow = 0;
-  Count dropped = 0;
-};
-struct Channel {  // rtl::TofChannelRegs<kDepth>
-  uint<1> level = 0, armed = 0, done = 0, in_progress = 0;
-  uint<tc::kEpochCountBits> epochs = 0;
-  Timestamp rise = 0;
-  Edges edges = 0;
-  Count ignored = 0;
-  Fifo<Event> fifo;
-};
-
-struct Registers {
-  logic::conditioner::Regs<Family, kLines> conditioner;
-  uint<tc::kPrescaleBits> prescale_count = 0;  // the timebase
-  Timestamp timestamp = 0;
-  uint<1> sync_level = 0;  // the sync input
-  Fifo<SyncEvent> sync_fifo;
-  Channel rx[kChannels];
-};
+// ---- registers: the model's blocks, register for register -------------------------
+using Logic = logic::tof::TofCapture<Family, kChannels, kDepth>;
+using Registers = logic::tof::Regs<Family, kChannels, kDepth>;
 
 // ---- port names (testbenches only: never synthesised) ------------------------------
 // Column names built at compile time: "rx3_pops", "rx3_entry5_ticks", "sync_entry5_ticks".
@@ -310,260 +278,83 @@ channel_status_names:
   }
 }
 
-// ---- the logic ----------------------------------------------------------------------
-inline int slot_index(Slot s) {
-  return static_cast<int>(to_s64(s));
-}
-
-// One clock's controls of a FIFO (rtl::FifoControl).
-struct FifoControl {
-  uint<1> snapshot;
-  Pops pops;
-  uint<1> flush, clear_overflow;
-};
-
-// Pops first (they free room; a frame pops at most what its snapshot saw),
-// then snapshot, flush and clear, as rtl::CaptureFifo::control.
-template <class Entry>
-inline void fifo_control(Fifo<Entry>& f, const FifoControl& c) {
-  Level popped = c.pops;
-  if (popped > f.snapshot_level)
-    popped = f.snapshot_level;
-  const Slot head = f.head + popped;
-  f.head = head;
-  f.level = f.level - popped;
-  if (c.pops != 0)
-    f.snapshot_level = 0;
-  if (c.snapshot == 1)
-    f.snapshot_level = f.level;
-  if (c.flush == 1) {
-    f.level = 0;
-    f.snapshot_level = 0;
-    f.overflow = 0;
-    f.dropped = 0;
+// ---- port mapping -----------------------------------------------------------------
+// The flat ports as the register map's port structs.
+inline logic::tof::In<Family, kChannels> unit_in(const Inputs& in) {
+  logic::tof::In<Family, kChannels> u;
+  u.comparators = in.comparators;
+  u.sync = in.sync;
+  u.tof.command.arm = in.arm;
+  u.tof.command.disarm = in.disarm;
+  u.tof.command.flush = in.flush;
+  u.tof.command.sync_flush = in.sync_flush;
+  u.tof.sync_status.overflow = in.sync_overflow_clear;
+  u.tof.sync_entry.pops = in.sync_pops;
+rx_pulses_loop:
+  for (int i = 0; i < kChannels; ++i) {
+    u.channel[i].status.overflow = in.rx_pulses[i].overflow_clear;
+    u.channel[i].entry.pops = in.rx_pulses[i].pops;
   }
-  if (c.clear_overflow == 1)
-    f.overflow = 0;
+  u.snapshot = in.snapshot;
+  u.clear_all = in.clear_all;
+  u.reset = in.reset;
+  return u;
 }
-
-// A full FIFO keeps its oldest entries: the new one is dropped and counted.
-template <class Entry>
-inline void fifo_push(Fifo<Entry>& f, const Entry& e) {
-  if (f.level == kDepth) {
-    f.overflow = 1;
-    if (f.dropped != kMaxCount)
-      f.dropped = f.dropped + 1;
-    return;
+inline logic::tof::UnitConfig<Family> config(const Inputs& in) {
+  logic::tof::UnitConfig<Family> c;
+  c.tof.cfg.prescale = in.prescale;
+  c.tof.cfg.filter_clocks = in.filter_clocks;
+  c.tof.cfg.sync_enable = in.sync_enable;
+rx_config_loop:
+  for (int i = 0; i < kChannels; ++i) {
+    c.tof_channel[i].cfg.mode = in.rx_config[i].mode;
+    c.tof_channel[i].cfg.window_enable = in.rx_config[i].window_enable;
+    c.tof_channel[i].cfg.edges = in.rx_config[i].edges;
+    c.tof_channel[i].window_open.ticks = in.rx_config[i].window_open;
+    c.tof_channel[i].window_close.ticks = in.rx_config[i].window_close;
   }
-  const Slot tail = f.head + f.level;
-  f.slots[slot_index(tail)] = e;
-  f.level = f.level + 1;
+  return c;
 }
-
-// The k-th oldest entry, or an all-zero one beyond the level.
-template <class Entry>
-inline Entry window_entry(const Fifo<Entry>& f, int k) {
-  Entry e;
-  if (k < f.level) {
-    const Slot at = f.head + k;
-    e = f.slots[slot_index(at)];
-  }
-  return e;
-}
-
-// The wires that cross the unit's blocks this clock, from the current
-// registers only (rtl::TofCapture::Wires).
-struct Wires {
-  Lines filtered;
-  Timestamp timestamp;
-  bool epoch;
-};
-
-inline bool tick(const Registers& r, const Inputs& in) {
-  return r.prescale_count >= in.prescale;
-}
-
-// The tick on which timestamp bits 22:0 roll over.
-inline Wires wires(const Registers& r, const Inputs& in) {
-  const Timestamp next = r.timestamp + 1;
-  Wires w;
-  w.filtered = r.conditioner.filtered;
-  w.timestamp = r.timestamp;
-  w.epoch = tick(r, in) && bits<tc::kEpochBits - 1, 0>(next) == 0;
-  return w;
-}
-
-inline void count_time(Registers& n, const Registers& r, const Inputs& in) {
-  if (tick(r, in)) {
-    n.prescale_count = 0;
-    n.timestamp = r.timestamp + 1;
-  } else {
-    n.prescale_count = r.prescale_count + 1;
-  }
-}
-
-// Ticks from the rise to now, exact below three epochs, else saturated.
-inline Width pulse_width(const Channel& n, const Channel& r, Timestamp now) {
-  if (n.epochs == kMaxEpochs)
-    return kMaxWidth;
-  const Timestamp ticks = now - r.rise;
-  if (ticks > kMaxWidth)
-    return kMaxWidth;
-  const Width width = ticks;
-  return width;
-}
-
-// [open, close) modulo 2^32, so a window may span the timestamp's wrap.
-inline bool in_window(const ChannelConfig& cfg, Timestamp now) {
-  if (cfg.window_enable == 0)
-    return true;
-  const Timestamp since_open = now - cfg.window_open;
-  const Timestamp length = cfg.window_close - cfg.window_open;
-  return since_open < length;
-}
-
-// Receiver channel i (rtl::TofChannel::eval).
-inline void clock_channel(Channel& n, const Channel& r, int i, const Wires& w, const Inputs& in) {
-  const ChannelConfig& cfg = in.rx_config[i];
-  const bool comparator = bit(w.filtered, i);
-  n.level = comparator ? 1 : 0;
-  FifoControl control;
-  control.snapshot = in.snapshot;
-  control.pops = in.rx_pulses[i].pops;
-  control.flush = bit(in.flush, i) ? 1 : 0;
-  control.clear_overflow = in.rx_pulses[i].overflow_clear | in.clear_all;
-  fifo_control(n.fifo, control);
-  if (control.flush == 1)
-    n.ignored = 0;
-  if (bit(in.arm, i)) {
-    n.armed = 1;
-    n.done = 0;
-    n.edges = 0;
-  }
-  if (bit(in.disarm, i))  // wins over arm
-    n.armed = 0;
-  if (r.in_progress == 1 && w.epoch && n.epochs != kMaxEpochs)
-    n.epochs = n.epochs + 1;
-  const bool rise = r.level == 0 && comparator;
-  const bool fall = r.level == 1 && !comparator;
-  if (fall && r.in_progress == 1) {  // recorded whole, even if disarmed meanwhile
-    Event e;
-    e.ticks = r.rise;
-    e.width = pulse_width(n, r, w.timestamp);
-    fifo_push(n.fifo, e);
-    n.in_progress = 0;
-  }
-  if (!rise || n.armed == 0)
-    return;
-  if (!in_window(cfg, w.timestamp)) {
-    if (n.ignored != kMaxCount)
-      n.ignored = n.ignored + 1;
-    return;
-  }
-  if (cfg.mode == tc::kModeEnvelope) {
-    n.in_progress = 1;
-    n.rise = w.timestamp;
-    n.epochs = 0;
-    return;
-  }
-  Event e;
-  e.ticks = w.timestamp;
-  e.edge = kMaxEdgeIndex;
-  if (n.edges < kMaxEdgeIndex)
-    e.edge = n.edges;
-  fifo_push(n.fifo, e);
-  if (n.edges != kMaxEdges)
-    n.edges = n.edges + 1;
-  if (cfg.edges != 0 && n.edges >= cfg.edges) {  // K edges recorded: disarm
-    n.armed = 0;
-    n.done = 1;
-  }
-}
-
-// The sync input (rtl::TofSync::eval): rising edges into its FIFO.
-inline void clock_sync(Registers& n, const Registers& r, const Wires& w, const Inputs& in) {
-  const bool sync = bit(w.filtered, kChannels);
-  n.sync_level = sync ? 1 : 0;
-  FifoControl control;
-  control.snapshot = in.snapshot;
-  control.pops = in.sync_pops;
-  control.flush = in.sync_flush;
-  control.clear_overflow = in.sync_overflow_clear | in.clear_all;
-  fifo_control(n.sync_fifo, control);
-  if (in.sync_enable == 1 && r.sync_level == 0 && sync) {
-    SyncEvent e;
-    e.ticks = w.timestamp;
-    fifo_push(n.sync_fifo, e);
-  }
-}
-
-// What the register file reads (rtl::TofCapture::status).
-inline void drive(Outputs& out, const Registers& n) {
-  out.fifo_depth = kDepth;
-  out.channels = kChannels;
-  out.timestamp = n.timestamp;
-  out.sync_fill_level = n.sync_fifo.level;
-  out.sync_overflow = n.sync_fifo.overflow;
-  out.sync_dropped = n.sync_fifo.dropped;
+inline void drive(Outputs& out, const logic::tof::UnitStatus<Family>& s) {
+  out.fifo_depth = s.tof.info.fifo_depth;
+  out.channels = s.tof.info.channels;
+  out.timestamp = s.tof.timestamp.ticks;
+  out.sync_fill_level = s.tof.sync_status.fill_level;
+  out.sync_overflow = s.tof.sync_status.overflow;
+  out.sync_dropped = s.tof.sync_status.dropped;
 sync_window_loop:
-  for (int k = 0; k < kWindow; ++k) {
-#pragma HLS unroll
-    out.sync_entry[k] = window_entry(n.sync_fifo, k).ticks;
-  }
+  for (int k = 0; k < kWindow; ++k)
+    out.sync_entry[k] = s.tof.sync_entry[k].ticks;
 status_loop:
   for (int i = 0; i < kChannels; ++i) {
-#pragma HLS unroll
-    const Channel& c = n.rx[i];
-    ChannelStatus& s = out.rx[i];
-    s.fill_level = c.fifo.level;
-    s.not_empty = c.fifo.level != 0 ? 1 : 0;
-    s.in_progress = c.in_progress;
-    s.armed = c.armed;
-    s.done = c.done;
-    s.overflow = c.fifo.overflow;
-    s.dropped = c.fifo.dropped;
-    s.ignored = c.ignored;
+    const logic::ports::tof_channel::Status<Family>& c = s.tof_channel[i];
+    ChannelStatus& o = out.rx[i];
+    o.fill_level = c.status.fill_level;
+    o.not_empty = c.status.not_empty;
+    o.in_progress = c.status.in_progress;
+    o.armed = c.status.armed;
+    o.done = c.status.done;
+    o.overflow = c.status.overflow;
+    o.dropped = c.events.dropped;
+    o.ignored = c.events.ignored;
   window_loop:
     for (int k = 0; k < kWindow; ++k) {
-#pragma HLS unroll
-      const Event e = window_entry(c.fifo, k);
-      s.entry[k].ticks = e.ticks;
-      s.entry[k].width = e.width;
-      s.entry[k].edge_index = e.edge;
-      s.entry[k].valid = k < c.fifo.level ? 1 : 0;
+      o.entry[k].ticks = c.entry[k].ticks;
+      o.entry[k].width = c.entry[k].width;
+      o.entry[k].edge_index = c.entry[k].edge_index;
+      o.entry[k].valid = c.entry[k].valid;
     }
   }
 }
 
-// One fabric clock: the next registers from the current ones (`r` is read
-// only before the commit) and the inputs, then the commit (`regs` is the
-// register bank) and the outputs.
+// One fabric clock: the registers after this clock's edge (`regs` is the
+// register bank), then the status of those registers.
 inline void step(Registers& regs, const Inputs& in, Outputs& out) {
 #pragma HLS inline
-  const Registers& r = regs;
-  Registers n = r;
-#pragma HLS array_partition variable = n.conditioner.line complete
-#pragma HLS array_partition variable = n.sync_fifo.slots complete
-#pragma HLS array_partition variable = n.rx complete dim = 0
-  if (in.reset == 1) {
-    n = Registers();
-  } else {
-    const Wires w = wires(r, in);
-    const Lines sync = in.sync;  // widened before the shift
-    logic::conditioner::In<Family, kLines> pins;
-    pins.pins = (sync << kChannels) | in.comparators;
-    pins.filter_clocks = in.filter_clocks;
-    n.conditioner = logic::conditioner::InputConditioner<Family, kLines>::next(r.conditioner, pins);
-    count_time(n, r, in);
-    clock_sync(n, r, w, in);
-  channel_loop:
-    for (int i = 0; i < kChannels; ++i) {
-#pragma HLS unroll
-      clock_channel(n.rx[i], r.rx[i], i, w, in);
-    }
-  }
-  regs = n;
-  drive(out, n);
+  regs = Logic::next(regs, unit_in(in), config(in));
+  logic::tof::UnitStatus<Family> status;
+  Logic::status(regs, status);
+  drive(out, status);
 }
 
 #if defined(__GNUC__)

@@ -29,6 +29,8 @@
 
 #include <type_traits>
 
+#include "odoloc/logic/int_family.hpp"
+
 #if ODOLOC_HLS_TYPES == 1
 #include <ap_int.h>
 #elif ODOLOC_HLS_TYPES == 2 && defined(__INTELFPGA_COMPILER__)
@@ -137,14 +139,16 @@ struct VendorTraits {
   static T shr_by(const T& v, const A& amount) {
     return T(v >> amount);
   }
+  template <class L>
+  static uint<W + logic::IntTraits<L>::width> cat(const T& high, const L& low) {
+    return logic::generic_cat(high, low);
+  }
 };
 }  // namespace detail
 
 }  // namespace hls
 
 namespace logic {
-template <class T>
-struct IntTraits;
 template <int W>
 struct IntTraits<hls::uint<W> > : hls::detail::VendorTraits<hls::uint<W>, W, false> {};
 template <int W>

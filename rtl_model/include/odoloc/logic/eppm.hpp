@@ -45,6 +45,41 @@ template <class F>
 using Mode = uint<F, constants::kModeBits>;
 
 // ---- quadrature decoder -----------------------------------------------------
+// The decoder's truth table, computed at compile time (a 16-entry ROM in
+// hardware, a load in the model): entry prev * 4 + curr of the (previous,
+// current) A/B pair, A in bit 1. The position in the forward cycle AB = 00
+// -> 10 -> 11 -> 01 is the Gray code (B, A^B) read as binary; one step up is
+// forward, one down backward, two is illegal (both lines changed). x4 counts
+// every step, x2 the steps of A, x1 only A's edge with B low (in both
+// directions, so back and forth over it nets zero); decode mode 3 behaves as
+// x4.
+struct DecodeTable {
+  signed char count[16][4];  // per decode mode: -1, 0 or +1
+  bool illegal[16];
+};
+constexpr int gray_position(int ab) {
+  return ((ab & 1) << 1) | ((ab >> 1 & 1) ^ (ab & 1));
+}
+constexpr DecodeTable make_decode_table() {
+  DecodeTable t = {};
+  for (int prev = 0; prev < 4; ++prev) {
+    for (int curr = 0; curr < 4; ++curr) {
+      const int delta = (gray_position(curr) - gray_position(prev) + 4) % 4;
+      const int dir = delta == 1 ? 1 : delta == 3 ? -1 : 0;
+      const bool a_changed = ((prev ^ curr) & 2) != 0;
+      const bool b_low = (prev & 1) == 0 && (curr & 1) == 0;
+      const int at = prev * 4 + curr;
+      t.count[at][constants::kDecodeX4] = static_cast<signed char>(dir);
+      t.count[at][constants::kDecodeX2] = static_cast<signed char>(a_changed ? dir : 0);
+      t.count[at][constants::kDecodeX1] = static_cast<signed char>(a_changed && b_low ? dir : 0);
+      t.count[at][3] = static_cast<signed char>(dir);
+      t.illegal[at] = delta == 2;
+    }
+  }
+  return t;
+}
+constexpr DecodeTable kDecodeTable = make_decode_table();
+
 template <class F>
 struct DecoderRegs {
   Lines<F> prev{0};           // filtered A/B one clock earlier
@@ -70,29 +105,14 @@ struct QuadratureDecoder {
     bool illegal;  // both lines changed
   };
 
-  // Position in the forward cycle AB = 00 -> 10 -> 11 -> 01: the Gray code
-  // (B, A^B) read as binary.
-  static uint<F, 2> phase_of(Lines<F> ab) {
-    const uint<F, 1> a = bit<constants::kLineA>(ab);
-    const uint<F, 1> b = bit<constants::kLineB>(ab);
-    return cat(b, wrap<uint<F, 1> >(a ^ b));
-  }
-  // x4 counts every step, x2 the steps of A, x1 only A's edge with B low (in
-  // both directions, so back and forth over it nets zero); 3 behaves as x4.
   static Transition decode(Lines<F> prev, Lines<F> curr, Mode<F> decode_mode) {
-    const long long delta = to_s64(wrap<uint<F, 2> >(phase_of(curr) - phase_of(prev)));  // mod 4
+    const long long at = to_s64(cat(prev, curr));
+    const signed char x4 = kDecodeTable.count[at][constants::kDecodeX4];
     Transition t;
-    t.forward = delta == 1;
-    t.moved = delta == 1 || delta == 3;
-    t.illegal = delta == 2;
-    const bool a_changed = bit<constants::kLineA>(prev) != bit<constants::kLineA>(curr);
-    const bool b_low =
-        is_zero(bit<constants::kLineB>(prev)) && is_zero(bit<constants::kLineB>(curr));
-    const long long mode = to_s64(decode_mode);
-    const bool counts = mode == constants::kDecodeX2   ? a_changed
-                        : mode == constants::kDecodeX1 ? a_changed && b_low
-                                                       : true;
-    t.step = Step<F>(counts && t.moved ? (t.forward ? 1 : -1) : 0);
+    t.step = wrap<Step<F> >(kDecodeTable.count[at][to_s64(decode_mode)]);
+    t.moved = x4 != 0;
+    t.forward = x4 > 0;
+    t.illegal = kDecodeTable.illegal[at];
     return t;
   }
   // The count pulse of this clock.
@@ -107,7 +127,7 @@ struct QuadratureDecoder {
     R n = r;
     n.prev = in.filtered;
     if (t.moved)
-      n.direction = uint<F, 1>(t.forward ? 1 : 0);
+      n.direction = wrap<uint<F, 1> >(t.forward);
     if (!is_zero(in.clear_phase_error)) {
       n.phase_error = uint<F, 1>(0);
       n.error_count = uint<F, constants::kErrorCountBits>(0);
@@ -298,10 +318,10 @@ struct PeriodMeter {
     if (!is_zero(in.reset))
       return R();
     R n = r;
-    n.sampled = uint<F, 1>(is_zero(in.step) ? 0 : 1);
+    n.sampled = wrap<uint<F, 1> >(!is_zero(in.step));
     if (!is_zero(in.clear_overflow))
       n.overflow = uint<F, 1>(0);
-    const uint<F, 1> tick(in.tick ? 1 : 0);
+    const uint<F, 1> tick = wrap<uint<F, 1> >(in.tick);
     if (is_zero(in.step)) {
       const uint<F, constants::kPeriodBits + 1> ticks = r.count + tick;
       if (!is_zero(bit<constants::kPeriodBits>(ticks))) {
@@ -312,11 +332,9 @@ struct PeriodMeter {
       }
       return n;
     }
-    const uint<F, 1> dir(in.step > Step<F>(0) ? 1 : 0);
-    n.valid = uint<F, 1>(!is_zero(r.armed) && dir == r.last_dir && !stalled(r, in.stall_ticks) &&
-                                 to_s64(r.count) != kTicksMax
-                             ? 1
-                             : 0);
+    const uint<F, 1> dir = wrap<uint<F, 1> >(in.step > Step<F>(0));
+    n.valid = wrap<uint<F, 1> >(!is_zero(r.armed) && dir == r.last_dir &&
+                                !stalled(r, in.stall_ticks) && to_s64(r.count) != kTicksMax);
     n.last = r.count;
     n.armed = uint<F, 1>(1);
     n.last_dir = dir;
@@ -385,7 +403,7 @@ struct Eppm {
   // then counts forward), so counts, speeds and direction bits all follow.
   template <class ModuleIn, class Config>
   static Lines<F> pins(const ModuleIn& in, const Config& cfg) {
-    return is_zero(cfg.cfg.reverse) ? cat(in.a, in.b) : cat(in.b, in.a);
+    return !is_zero(cfg.cfg.reverse) ? cat(in.b, in.a) : cat(in.a, in.b);
   }
   template <class ModuleIn, class Config>
   static conditioner::In<F, constants::kLines> conditioner_in(const ModuleIn& in,
@@ -475,7 +493,7 @@ struct Eppm {
     s.latched.value = c.latched;
     s.speed.mode = pulse.mode;
     const bool stall = Period::stalled(p, cfg.stall_ticks.ticks);
-    s.speed.stalled = uint<F, 1>(stall ? 1 : 0);
+    s.speed.stalled = wrap<uint<F, 1> >(stall);
     if (stall) {
       s.speed.valid = uint<F, 1>(1);
     } else if (to_s64(pulse.mode) == constants::kModePulse) {
@@ -484,7 +502,7 @@ struct Eppm {
     } else if (!is_zero(p.valid)) {
       const Ticks<F> longest = p.last >= p.count ? p.last : p.count;
       const Ticks<F> ticks = is_zero(longest) ? Ticks<F>(1) : longest;
-      s.speed.bound = uint<F, 1>(ticks != p.last ? 1 : 0);
+      s.speed.bound = wrap<uint<F, 1> >(ticks != p.last);
       const Edges<F> magnitude = wrap<Edges<F> >(ticks);  // exact: < 2^23
       s.speed.value = is_zero(p.last_dir) ? wrap<Edges<F> >(-magnitude) : magnitude;
       s.speed.valid = uint<F, 1>(1);

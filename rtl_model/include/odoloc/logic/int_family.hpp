@@ -20,7 +20,9 @@
 //   - the functions below for everything else: wrap<T> (the low bits, two's
 //     complement), bits<Hi, Lo> and bit<I>, shl<N> (grows), shr<N> and
 //     shr_by (a barrel shifter), both the same width, to_s64 and is_zero, cat;
-//   - literals as T(value), in range.
+//   - literals as T(value), in range; a value known only at run time (a bool,
+//     a table entry) through wrap<T>, since T(value) checks its range at run
+//     time in the model's family.
 // C++14, header-only, no heap, no containers: the HLS front ends compile it.
 #pragma once
 
@@ -42,6 +44,9 @@ using sint = typename F::template sint<W>;
 //   static T shr_by(T v, A amount)   v >> amount, arithmetic for signed
 //   template <int N> static T shr(T v)      v >> N, same width
 //   template <int N> static auto shl(T v)   v << N in W + N bits
+//   template <class L> static auto cat(T high, L low)   {high, low}
+//                                    (generic_cat unless the family has a
+//                                    faster way)
 template <class T>
 struct IntTraits;
 
@@ -77,9 +82,16 @@ template <class T, class A>
 inline T shr_by(const T& v, const A& amount) {
   return IntTraits<T>::shr_by(v, amount);
 }
-// {high, low}: high in the upper bits.
+// {high, low}: high in the upper bits. A family may spell it itself
+// (IntTraits<H>::cat, the model's: one shift and one or).
 template <class H, class L>
 inline uint<typename IntTraits<H>::family, IntTraits<H>::width + IntTraits<L>::width> cat(
+    const H& high, const L& low) {
+  return IntTraits<H>::cat(high, low);
+}
+// cat() of a family without its own: the bits of both through wrap and shl.
+template <class H, class L>
+inline uint<typename IntTraits<H>::family, IntTraits<H>::width + IntTraits<L>::width> generic_cat(
     const H& high, const L& low) {
   using Result = uint<typename IntTraits<H>::family, IntTraits<H>::width + IntTraits<L>::width>;
   return wrap<Result>(shl<IntTraits<L>::width>(high) | wrap<Result>(low));

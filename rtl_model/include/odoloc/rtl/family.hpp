@@ -94,6 +94,11 @@ struct ModelIntTraits {
   [[gnu::always_inline]] static constexpr T shr_by(T v, rtl::UInt<K> amount) {
     return v.dshr(amount);
   }
+  template <class L>
+  [[gnu::always_inline]] static constexpr rtl::UInt<width + L::width> cat(T high, L low) {
+    return rtl::cat(rtl::UInt<width>::truncate(rtl::detail::raw_bits(high)),
+                    rtl::UInt<L::width>::truncate(rtl::detail::raw_bits(low)));
+  }
 };
 
 template <int W>

@@ -11,7 +11,10 @@
 // the channel: a pin change in clock t is stamped with the timestamp of clock
 // t+N+2 (N = max(filter_clocks, 1)); the driver subtracts that constant.
 // Every counter is a function of the clock count and the input edges, so an
-// analytic fast-forward can jump the timebase between events.
+// analytic fast-forward can jump the timebase between events. The logic:
+// logic/tof_capture.hpp (the one source, also the HLS kernel's). Here: what
+// only a simulator needs around it (field lists, the waveform's ports, the
+// quiet fast path and activity gating, the fast-forward).
 #pragma once
 
 #include <algorithm>
@@ -19,9 +22,11 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "odoloc/logic/tof_capture.hpp"
 #include "odoloc/ports.hpp"
 #include "odoloc/rtl/bits.hpp"
 #include "odoloc/rtl/clocked.hpp"
+#include "odoloc/rtl/family.hpp"
 #include "odoloc/rtl/input_conditioner.hpp"
 #include "odoloc/rtl/tof_constants.hpp"
 
@@ -37,39 +42,55 @@ static_assert(tof_capture::kChannels == kTofChannelInstances &&
               tof_capture::kModeEnvelope == encoding(TofMode::kEnvelope) &&
               tof_capture::kModeCarrier == encoding(TofMode::kCarrier));
 
-// ---- timebase -----------------------------------------------------------------
-// One tick every prescale+1 clocks; the timestamp counts ticks and wraps at
-// 2^32. The epoch strobe marks the tick on which bits 22:0 of the timestamp
-// roll over: a pulse that has seen three epochs is longer than 2^24 ticks, so
-// widths saturate exactly without a per-clock width counter.
-struct TofTimebaseRegs {
-  UInt<16> prescale_count;  // clocks since the last tick
-  UInt<32> timestamp;       // ticks since reset, wrapping
-  bool operator==(const TofTimebaseRegs&) const = default;
-  ODOLOC_FIELDS(prescale_count, timestamp)
-};
+// ---- the leaves (logic/tof_capture.hpp) -----------------------------------------
+ODOLOC_LOGIC_FIELDS(logic::tof::TimebaseRegs, prescale_count, timestamp)
+ODOLOC_LOGIC_FIELDS(logic::tof::Event, ticks, width, edge)
+ODOLOC_LOGIC_FIELDS(logic::tof::SyncEvent, ticks)
+ODOLOC_LOGIC_FIELDS_OF((class Entry, int Depth), (logic::tof::Fifo<Entry, Family, Depth>), slots,
+                       head, level, snapshot_level, overflow, dropped)
+ODOLOC_LOGIC_FIELDS_OF((int Depth), (logic::tof::ChannelRegs<Family, Depth>), level, armed, done,
+                       in_progress, epochs, rise, edges, ignored, fifo)
+ODOLOC_LOGIC_FIELDS_OF((int Depth), (logic::tof::SyncRegs<Family, Depth>), level, fifo)
 
+using TofTimebaseRegs = logic::tof::TimebaseRegs<Family>;
+using TofEvent = logic::tof::Event<Family>;
+using TofSyncEvent = logic::tof::SyncEvent<Family>;
+using FifoControl = logic::tof::FifoControl<Family>;
+template <class Entry, std::size_t Depth>
+using CaptureFifo = logic::tof::Fifo<Entry, Family, static_cast<int>(Depth)>;
+template <std::size_t Depth>
+using TofChannelRegs = logic::tof::ChannelRegs<Family, static_cast<int>(Depth)>;
+template <std::size_t Depth>
+using TofSyncRegs = logic::tof::SyncRegs<Family, static_cast<int>(Depth)>;
+
+// The k-th oldest entry of a FIFO (k < level).
+template <class Entry, int Depth>
+[[nodiscard]] const Entry& fifo_entry(const logic::tof::Fifo<Entry, Family, Depth>& f,
+                                      std::size_t k) {
+  return logic::tof::CaptureFifo<Entry, Family, Depth>::at(f, static_cast<int>(k));
+}
+
+// The register widths the HLS kernel mirrors by name (tof_constants.hpp).
+static_assert(decltype(TofChannelRegs<8>::ignored)::width == tof_capture::kCounterBits &&
+              decltype(ports::tof_channel::Pulses::EntryReg::pops)::width ==
+                  tof_capture::kPopBits &&
+              decltype(ports::tof::Config::CfgReg::filter_clocks)::width ==
+                  tof_capture::kFilterBits &&
+              decltype(ports::tof::Config::CfgReg::prescale)::width == tof_capture::kPrescaleBits &&
+              logic::conditioner::kFilterBits == tof_capture::kFilterBits);
+
+// One tick every prescale+1 clocks, a 32-bit timestamp, the epoch strobe
+// (logic/tof_capture.hpp).
 class TofTimebase : public Registers<TofTimebaseRegs> {
+  using Logic = logic::tof::Timebase<Family>;
+
  public:
   static constexpr int kEpochBits = tof_capture::kEpochBits;
-  struct In {
-    UInt<16> prescale;
-    UInt<1> reset;
-  };
+  using In = logic::tof::TimebaseIn<Family>;
 
-  [[nodiscard]] bool tick(UInt<16> prescale) const { return r_.prescale_count >= prescale; }
-  [[nodiscard]] bool epoch(UInt<16> prescale) const {
-    constexpr std::uint64_t kEpochMask = (std::uint64_t{1} << kEpochBits) - 1;
-    return tick(prescale) && ((r_.timestamp.value() + 1) & kEpochMask) == 0;
-  }
-
-  [[nodiscard]] Regs eval(const In& in) const {
-    if (in.reset)
-      return Regs{};
-    if (tick(in.prescale))
-      return {UInt<16>{}, (r_.timestamp + UInt<1>{1}).wrap<32>()};
-    return {(r_.prescale_count + UInt<1>{1}).wrap<16>(), r_.timestamp};
-  }
+  [[nodiscard]] bool tick(UInt<16> prescale) const { return Logic::tick(r_, prescale); }
+  [[nodiscard]] bool epoch(UInt<16> prescale) const { return Logic::epoch(r_, prescale); }
+  [[nodiscard]] Regs eval(const In& in) const { return Logic::next(r_, in); }
   [[nodiscard]] bool idle(const In&) const { return false; }  // counts every clock
 
   // Fast-forward (clocked.hpp): the prescaler restarts after its tick; the
@@ -85,266 +106,42 @@ class TofTimebase : public Registers<TofTimebaseRegs> {
   }
 };
 
-// ---- event FIFO -----------------------------------------------------------------
-// A FIFO of Depth entries with the bookkeeping that makes SPI reads lossless:
-// the level captured when a read frame starts bounds what that frame's
-// commit may pop, so an entry pushed while the frame runs is never popped
-// unread; a full FIFO drops the new event and counts it, keeping the
-// oldest, unread ones.
-struct FifoControl {
-  UInt<1> snapshot{};        // a read frame starts: capture the level
-  UInt<6> pops{};            // a read frame committed having read this many entries
-  UInt<1> flush{};           // empty, clear overflow and dropped
-  UInt<1> clear_overflow{};  // w1c
-};
-
-template <class Entry, std::size_t Depth>
-struct CaptureFifo {
-  static_assert(Depth >= 8 && Depth <= 32 && (Depth & (Depth - 1)) == 0,
-                "FIFO depth: a power of two, 8..32 (status.level is 6 bits)");
-  std::array<Entry, Depth> slots{};
-  UInt<5> head;            // oldest entry (mod Depth)
-  UInt<6> level;           // entries held
-  UInt<6> snapshot_level;  // level when the current read frame started
-  UInt<1> overflow;        // sticky: an event was dropped
-  UInt<16> dropped;        // events dropped since the last flush, saturating
-  bool operator==(const CaptureFifo&) const = default;
-  ODOLOC_FIELDS(slots, head, level, snapshot_level, overflow, dropped)
-
-  // The k-th oldest entry (k < level).
-  [[nodiscard]] const Entry& at(std::size_t k) const {
-    return slots[(static_cast<std::size_t>(head.value()) + k) % Depth];
-  }
-  [[nodiscard]] bool quiet(const FifoControl& c) const {
-    return (c.snapshot | c.pops | c.flush | c.clear_overflow).is_zero();
-  }
-  // This clock's controls applied to a next-state copy: pops first (they
-  // free room), then flush and clear; an event pushed after them in the same
-  // clock survives.
-  void control(const FifoControl& c) {
-    // A frame commits once: its pops end what its snapshot allowed.
-    const std::uint64_t popped = std::min(c.pops.value(), snapshot_level.value());
-    head = UInt<5>::truncate((head.value() + popped) % Depth);
-    level = UInt<6>::truncate(level.value() - popped);
-    if (!c.pops.is_zero())
-      snapshot_level = UInt<6>{};
-    if (c.snapshot)
-      snapshot_level = level;
-    if (c.flush) {
-      level = UInt<6>{};
-      snapshot_level = UInt<6>{};
-      overflow = UInt<1>{};
-      dropped = UInt<16>{};
-    }
-    if (c.clear_overflow)
-      overflow = UInt<1>{};
-  }
-  void push(const Entry& e) {
-    if (level.value() == Depth) {
-      overflow = UInt<1>{1};
-      dropped = (dropped + UInt<1>{1}).sat<16>();
-      return;
-    }
-    slots[(static_cast<std::size_t>(head.value()) + level.value()) % Depth] = e;
-    level = (level + UInt<1>{1}).wrap<6>();
-  }
-};
-
-// ---- receiver channel ---------------------------------------------------------
-// One FIFO entry. Envelope mode: the pulse's rise timestamp and width;
-// carrier mode: a rising edge's timestamp and its number since arming.
-struct TofEvent {
-  UInt<32> ticks;
-  UInt<24> width;  // ticks, saturating at 2^24-1
-  UInt<7> edge;    // saturating at 127
-  bool operator==(const TofEvent&) const = default;
-  ODOLOC_FIELDS(ticks, width, edge)
-};
-
-template <std::size_t Depth>
-struct TofChannelRegs {
-  UInt<1> level;        // the filtered comparator level of the last clock
-  UInt<1> armed;        // records events
-  UInt<1> done;         // carrier mode: K edges recorded, disarmed itself
-  UInt<1> in_progress;  // envelope mode: a recorded pulse has risen, not yet fallen
-  UInt<2> epochs;       // epoch strobes seen during the pulse in progress, saturating
-  UInt<32> rise;        // the pulse in progress: its rise timestamp
-  UInt<8> edges;        // carrier mode: rising edges recorded since arming, saturating
-  UInt<16> ignored;     // rising edges outside the listening window, saturating
-  CaptureFifo<TofEvent, Depth> fifo;
-  bool operator==(const TofChannelRegs&) const = default;
-  ODOLOC_FIELDS(level, armed, done, in_progress, epochs, rise, edges, ignored, fifo)
-};
-// The register widths the HLS kernel mirrors by name (tof_constants.hpp).
-static_assert(decltype(TofEvent::ticks)::width == tof_capture::kTimestampBits &&
-              decltype(TofEvent::width)::width == tof_capture::kWidthBits &&
-              decltype(TofEvent::edge)::width == tof_capture::kEdgeIndexBits &&
-              decltype(TofChannelRegs<8>::epochs)::width == tof_capture::kEpochCountBits &&
-              decltype(TofChannelRegs<8>::edges)::width == tof_capture::kEdgeCountBits &&
-              decltype(TofChannelRegs<8>::ignored)::width == tof_capture::kCounterBits &&
-              decltype(CaptureFifo<TofEvent, 8>::head)::width == tof_capture::kHeadBits &&
-              decltype(CaptureFifo<TofEvent, 8>::level)::width == tof_capture::kLevelBits &&
-              decltype(CaptureFifo<TofEvent, 8>::dropped)::width == tof_capture::kCounterBits &&
-              decltype(TofTimebaseRegs::prescale_count)::width == tof_capture::kPrescaleBits &&
-              decltype(ports::tof_channel::Pulses::EntryReg::pops)::width ==
-                  tof_capture::kPopBits &&
-              decltype(ports::tof::Config::CfgReg::filter_clocks)::width ==
-                  tof_capture::kFilterBits &&
-              logic::conditioner::kFilterBits == tof_capture::kFilterBits);
-
+// A receiver channel: envelope or carrier events into its FIFO.
 template <std::size_t Depth>
 class TofChannel : public Registers<TofChannelRegs<Depth>> {
   using Base = Registers<TofChannelRegs<Depth>>;
   using Base::r_;
+  using Logic = logic::tof::Channel<Family, static_cast<int>(Depth)>;
 
  public:
   using Regs = typename Base::Regs;
-  static constexpr std::uint64_t kMaxWidth = UInt<24>::max_value;
-  struct In {
-    UInt<1> comparator;  // filtered
-    UInt<32> timestamp;
-    bool epoch;
-    ports::tof_channel::Config cfg;
-    UInt<1> arm, disarm;
-    FifoControl fifo;
-    UInt<1> reset;
-  };
+  using In = logic::tof::ChannelIn<Family, ports::tof_channel::Config>;
 
-  [[nodiscard]] Regs eval(const In& in) const {
-    if (in.reset)
-      return Regs{};
-    Regs n = r_;
-    n.level = in.comparator;
-    n.fifo.control(in.fifo);
-    if (in.fifo.flush)
-      n.ignored = UInt<16>{};
-    if (in.arm) {
-      n.armed = UInt<1>{1};
-      n.done = UInt<1>{};
-      n.edges = UInt<8>{};
-    }
-    if (in.disarm)  // wins over arm
-      n.armed = UInt<1>{};
-    if (r_.in_progress && in.epoch)
-      n.epochs = (n.epochs + UInt<1>{1}).template sat<2>();
-    const bool rise = !r_.level && in.comparator;
-    const bool fall = r_.level && !in.comparator;
-    if (fall && r_.in_progress) {
-      n.fifo.push({.ticks = r_.rise, .width = width(n.epochs, in.timestamp), .edge = {}});
-      n.in_progress = UInt<1>{};
-    }
-    if (!rise || !n.armed)
-      return n;
-    if (!in_window(in)) {
-      n.ignored = (n.ignored + UInt<1>{1}).template sat<16>();
-      return n;
-    }
-    if (in.cfg.cfg.mode.value() == encoding(TofMode::kEnvelope)) {
-      n.in_progress = UInt<1>{1};
-      n.rise = in.timestamp;
-      n.epochs = UInt<2>{};
-      return n;
-    }
-    n.fifo.push({.ticks = in.timestamp, .width = {}, .edge = n.edges.template sat<7>()});
-    n.edges = (n.edges + UInt<1>{1}).template sat<8>();
-    if (!in.cfg.cfg.edges.is_zero() && n.edges >= in.cfg.cfg.edges) {
-      n.armed = UInt<1>{};
-      n.done = UInt<1>{1};
-    }
-    return n;
-  }
+  [[nodiscard]] Regs eval(const In& in) const { return Logic::next(r_, in); }
   [[nodiscard]] bool idle(const In& in) const {
     return in.comparator == r_.level && !(in.epoch && r_.in_progress) &&
-           (in.arm | in.disarm | in.reset).is_zero() && r_.fifo.quiet(in.fifo);
+           (in.arm | in.disarm | in.reset).is_zero() && Logic::Fifo::quiet(in.fifo);
   }
-
   // What the register file reads: tof_channel.status, events and the entry window.
   [[nodiscard]] ports::tof_channel::Status status() const {
-    ports::tof_channel::Status s;
-    const auto& f = r_.fifo;
-    s.status.fill_level = f.level;
-    s.status.not_empty = UInt<1>::truncate(!f.level.is_zero());
-    s.status.in_progress = r_.in_progress;
-    s.status.armed = r_.armed;
-    s.status.done = r_.done;
-    s.status.overflow = f.overflow;
-    s.events.dropped = f.dropped;
-    s.events.ignored = r_.ignored;
-    for (std::size_t k = 0; k < s.entry.size(); ++k) {
-      if (k >= f.level.value())
-        break;
-      const TofEvent& e = f.at(k);
-      s.entry[k] = {.ticks = e.ticks, .width = e.width, .edge_index = e.edge, .valid = UInt<1>{1}};
-    }
-    return s;
-  }
-
- private:
-  // Ticks from the rise to this clock; exact below 3 * 2^23 ticks (fewer than
-  // three epochs seen), and longer pulses saturate.
-  [[nodiscard]] UInt<24> width(UInt<2> epochs, UInt<32> now) const {
-    if (epochs.value() == 3)
-      return UInt<24>::truncate(kMaxWidth);
-    const std::uint64_t ticks = (now.value() - r_.rise.value()) & UInt<32>::mask;
-    return UInt<24>::truncate(std::min(ticks, kMaxWidth));
-  }
-  // [open, close) modulo 2^32, so a window may span the timestamp wrap.
-  static bool in_window(const In& in) {
-    if (!in.cfg.cfg.window_enable)
-      return true;
-    const std::uint64_t open = in.cfg.window_open.ticks.value();
-    const std::uint64_t since_open = (in.timestamp.value() - open) & UInt<32>::mask;
-    const std::uint64_t length = (in.cfg.window_close.ticks.value() - open) & UInt<32>::mask;
-    return since_open < length;
+    return Logic::template status<ports::tof_channel::Status>(r_);
   }
 };
 
-// ---- sync input ---------------------------------------------------------------
-template <std::size_t Depth>
-struct TofSyncRegs {
-  UInt<1> level;  // the filtered sync level of the last clock
-  CaptureFifo<UInt<32>, Depth> fifo;
-  bool operator==(const TofSyncRegs&) const = default;
-  ODOLOC_FIELDS(level, fifo)
-};
-
+// The sync input: its rising edges into its FIFO.
 template <std::size_t Depth>
 class TofSync : public Registers<TofSyncRegs<Depth>> {
   using Base = Registers<TofSyncRegs<Depth>>;
   using Base::r_;
+  using Logic = logic::tof::Sync<Family, static_cast<int>(Depth)>;
 
  public:
   using Regs = typename Base::Regs;
-  struct In {
-    UInt<1> sync;  // filtered
-    UInt<32> timestamp;
-    UInt<1> enable;
-    FifoControl fifo;
-    UInt<1> reset;
-  };
+  using In = logic::tof::SyncIn<Family>;
 
-  [[nodiscard]] Regs eval(const In& in) const {
-    if (in.reset)
-      return Regs{};
-    Regs n = r_;
-    n.level = in.sync;
-    n.fifo.control(in.fifo);
-    if (in.enable && !r_.level && in.sync)
-      n.fifo.push(in.timestamp);
-    return n;
-  }
+  [[nodiscard]] Regs eval(const In& in) const { return Logic::next(r_, in); }
   [[nodiscard]] bool idle(const In& in) const {
-    return in.sync == r_.level && in.reset.is_zero() && r_.fifo.quiet(in.fifo);
-  }
-
-  // tof.sync_status and the sync entry window.
-  void status(ports::tof::Status& s) const {
-    const auto& f = r_.fifo;
-    s.sync_status.fill_level = f.level;
-    s.sync_status.overflow = f.overflow;
-    s.sync_status.dropped = f.dropped;
-    for (std::size_t k = 0; k < s.sync_entry.size() && k < f.level.value(); ++k)
-      s.sync_entry[k].ticks = f.at(k);
+    return in.sync == r_.level && in.reset.is_zero() && Logic::Fifo::quiet(in.fifo);
   }
 };
 
@@ -365,6 +162,7 @@ template <std::size_t Channels = kTofChannelInstances, std::size_t Depth = tof_c
 class TofCapture {
   static_assert(Channels >= 1 && Channels <= kTofChannelInstances);
   static constexpr int kLines = static_cast<int>(Channels) + 1;  // the sync input is the top line
+  using Logic = logic::tof::TofCapture<Family, static_cast<int>(Channels), static_cast<int>(Depth)>;
 
  public:
   using In = TofCaptureInputs<Channels>;
@@ -373,50 +171,25 @@ class TofCapture {
   static constexpr std::size_t kChannels = Channels;
   static constexpr std::size_t kDepth = Depth;
 
-  // The wires that cross the children, from the current registers only.
-  struct Wires {
-    UInt<kLines> filtered;  // conditioner -> channels, sync
-    UInt<32> timestamp;     // timebase -> channels, sync
-    bool epoch;             // timebase -> channels
-  };
+  using Wires = logic::tof::Wires<Family, static_cast<int>(Channels)>;
+  // The wires that cross the children, from the current registers only, and
+  // each child's inputs (logic/tof_capture.hpp).
   [[nodiscard]] Wires wires(const Config& cfg) const {
-    return {.filtered = conditioner_.regs().filtered,
-            .timestamp = timebase_.regs().timestamp,
-            .epoch = timebase_.epoch(cfg.tof.cfg.prescale)};
+    return Logic::wires(conditioner_.regs(), timebase_.regs(), cfg);
   }
-  static UInt<kLines> pins(const In& in) { return cat(in.sync, in.comparators); }
+  static UInt<kLines> pins(const In& in) { return Logic::pins(in); }
   static typename Conditioner::In conditioner_in(const In& in, const Config& cfg) {
-    return {.pins = pins(in), .filter_clocks = cfg.tof.cfg.filter_clocks, .reset = in.reset};
+    return Logic::conditioner_in(in, cfg);
   }
   static TofTimebase::In timebase_in(const In& in, const Config& cfg) {
-    return {.prescale = cfg.tof.cfg.prescale, .reset = in.reset};
+    return Logic::timebase_in(in, cfg);
   }
   static typename TofChannel<Depth>::In channel_in(std::size_t i, const Wires& w, const In& in,
                                                    const Config& cfg) {
-    const auto& command = in.tof.command;
-    const auto& pulses = in.channel[i];
-    const auto bit = [i](auto mask) { return UInt<1>::truncate(mask.value() >> i); };
-    return {.comparator = bit(w.filtered),
-            .timestamp = w.timestamp,
-            .epoch = w.epoch,
-            .cfg = cfg.tof_channel[i],
-            .arm = bit(command.arm),
-            .disarm = bit(command.disarm),
-            .fifo = {.snapshot = in.snapshot,
-                     .pops = pulses.entry.pops,
-                     .flush = bit(command.flush),
-                     .clear_overflow = pulses.status.overflow | in.clear_all},
-            .reset = in.reset};
+    return Logic::channel_in(static_cast<int>(i), w, in, cfg);
   }
   static typename TofSync<Depth>::In sync_in(const Wires& w, const In& in, const Config& cfg) {
-    return {.sync = w.filtered.template bit<kLines - 1>(),
-            .timestamp = w.timestamp,
-            .enable = cfg.tof.cfg.sync_enable,
-            .fifo = {.snapshot = in.snapshot,
-                     .pops = in.tof.sync_entry.pops,
-                     .flush = in.tof.command.sync_flush,
-                     .clear_overflow = in.tof.sync_status.overflow | in.clear_all},
-            .reset = in.reset};
+    return Logic::sync_in(w, in, cfg);
   }
 
   template <Gating G = Gating::kOn, class Order = DeclarationOrder>
@@ -471,10 +244,7 @@ class TofCapture {
 
   // Fills the tof.* and tof_channel.* status the register file reads.
   void status(ports::Status& s) const {
-    s.tof.info.fifo_depth = UInt<8>{Depth};
-    s.tof.info.channels = UInt<8>{Channels};
-    s.tof.timestamp.ticks = timebase_.regs().timestamp;
-    sync_.status(s.tof);
+    Logic::unit_status(timebase_.regs(), sync_.regs(), s);
     for (std::size_t i = 0; i < Channels; ++i)
       s.tof_channel[i] = channels_[i].status();
   }
