@@ -9,6 +9,7 @@
 #include "odoloc/board/beacon_ranges.hpp"
 #include "odoloc/board/chip_link.hpp"
 #include "odoloc/board/world_stimulus.hpp"
+#include "odoloc/process/run_program.hpp"
 #include "odoloc/regs.hpp"
 #include "odoloc/sw/spi_frame.hpp"
 
@@ -21,7 +22,15 @@ constexpr double kClockHz = regs::kFabricClockHz;
 // The tricycle's trajectory for the acoustic world, every 1 ms; the
 // physics steps 100 us at a time (the chip's truth steps 10 us: both
 // integrate the same arcs, docs/tricycle-simulator.md).
-world::Trajectory prepass(const world::Scenario& drive, double end_s) {
+// A signal while the system is built ends the construction too: the
+// pre-pass and the chip's world take seconds (more under the sanitizers).
+void check_stop(const std::atomic<bool>* stop) {
+  if (stop != nullptr && stop->load())
+    throw process::Interrupted();
+}
+
+world::Trajectory prepass(const world::Scenario& drive, double end_s,
+                          const std::atomic<bool>* stop) {
   world::Options options;
   options.start = drive.start;
   options.clocks_per_step = 5000;
@@ -29,6 +38,7 @@ world::Trajectory prepass(const world::Scenario& drive, double end_s) {
   world::TricycleSimulator truth(drive.geometry, drive.path, drive.disturbances, options);
   const auto end_clock = static_cast<std::uint64_t>(std::ceil(end_s * kClockHz));
   while (!truth.done() && truth.clock() < end_clock) {
+    check_stop(stop);
     truth.tick();
     truth.skip(truth.hold_ticks());
   }
@@ -160,8 +170,11 @@ LocalisationSystem::LocalisationSystem(world::RoomTour tour, const SystemOptions
   };
   rear_future_ = std::async(std::launch::async, reference_run, rtl::MinSelectPolicy::kRearOnly);
   front_future_ = std::async(std::launch::async, reference_run, rtl::MinSelectPolicy::kFrontOnly);
-  trajectory_ = prepass(tour_.drive, tour_.duration_s);
-  chip_ = std::make_unique<Chip>(tour_, trajectory_, tour_.station_plan(trajectory_), options_);
+  trajectory_ = prepass(tour_.drive, tour_.duration_s, options_.stop);
+  check_stop(options_.stop);
+  const auto plan = tour_.station_plan(trajectory_);
+  check_stop(options_.stop);
+  chip_ = std::make_unique<Chip>(tour_, trajectory_, plan, options_);
 }
 
 LocalisationSystem::~LocalisationSystem() = default;

@@ -46,12 +46,12 @@ class SequentialCordic : public Registers<SequentialCordicRegs> {
     cordic::State state = r_.state;  // a local: kept in registers
     for (std::uint64_t k = 0; k < rotations; ++k)
       state = cordic::iterate(state, UInt<4>::truncate(first + k));
-    Regs next = r_;
-    next.state = state;
-    next.iteration = UInt<4>::truncate(first + rotations);
+    // Only the rotated registers are written (a copy of the whole next
+    // state costs more than the rotations).
+    r_.state = state;
+    r_.iteration = UInt<4>::truncate(first + rotations);
     if (finishes)
-      next = cordic::Logic::next(next, In{});
-    commit(next);
+      commit(cordic::Logic::next(r_, In{}));
   }
 };
 

@@ -31,9 +31,8 @@ class OdometryFabric {
   using In = OdometryFabricInputs;
   using Config = ports::Config;  // its top block is the SPI interface's, not read here
 
-  // The wires into every child, from the current registers only.
-  struct Wires {
-    EncoderFabric::In encoders;
+  // The wires into every child but the EPPMs, from the current registers only.
+  struct UnitWires {
     OdometrySequencer::In sequencer;
     SequentialCordic::In cordic;
     RearOdometryUnit::In rear;
@@ -42,7 +41,16 @@ class OdometryFabric {
     PoseIntegrator::In integrator;
     OdometryReport::In report;
   };
+  // The wires into every child.
+  struct Wires {
+    EncoderFabric::In encoders;
+    UnitWires units;
+  };
   [[nodiscard]] Wires wires(const In& in, const Config& cfg) const {
+    return {.encoders = eppm_inputs(in, phase_is(OdometryPhase::kLatch)),
+            .units = unit_wires(in, cfg)};
+  }
+  [[nodiscard]] UnitWires unit_wires(const In& in, const Config& cfg) const {
     const OdometryConfig& oc = cfg.odometry;
     const UInt<1> clear_all = in.odometry.command.clear_flags;
     const UInt<1> phi_load = phase_is(OdometryPhase::kPhiLoad);
@@ -55,7 +63,6 @@ class OdometryFabric {
     const FrontOdometryUnit::Regs& front = front_.regs();
     const MinSelect::Regs& select = select_.regs();
     return {
-        .encoders = eppm_inputs(in, phase_is(OdometryPhase::kLatch)),
         .sequencer = sequencer_in(in, cfg),
         .cordic = {.load = phi_load | theta_load,
                    .angle =
@@ -151,9 +158,10 @@ class OdometryFabric {
   }
   [[nodiscard]] bool idle(const In& in, const Config& cfg) const {
     const Wires w = wires(in, cfg);
-    return encoders_.idle(w.encoders, cfg.eppm) && sequencer_.idle(w.sequencer) &&
-           cordic_.idle(w.cordic) && rear_.idle(w.rear) && front_.idle(w.front) &&
-           select_.idle(w.select) && integrator_.idle(w.integrator) && report_.idle(w.report);
+    const UnitWires& u = w.units;
+    return encoders_.idle(w.encoders, cfg.eppm) && sequencer_.idle(u.sequencer) &&
+           cordic_.idle(u.cordic) && rear_.idle(u.rear) && front_.idle(u.front) &&
+           select_.idle(u.select) && integrator_.idle(u.integrator) && report_.idle(u.report);
   }
 
   void reset_now() {
@@ -223,11 +231,11 @@ class OdometryFabric {
   template <Gating G, class Order>
   [[gnu::noinline]] void step_all(const In& in, const Config& cfg, const Order& order) {
     const Wires w = wires(in, cfg);
-    clock_units<G>(w, order, [&] { encoders_.step<G>(w.encoders, cfg.eppm, order); });
+    clock_units<G>(w.units, order, [&] { encoders_.step<G>(w.encoders, cfg.eppm, order); });
   }
   // Every child but the EPPMs, plus `more` children, in `order`.
   template <Gating G, class Order, class... More>
-  void clock_units(const Wires& w, const Order& order, More&&... more) {
+  void clock_units(const UnitWires& w, const Order& order, More&&... more) {
     order(
         std::forward<More>(more)..., [&] { clock_block<G>(sequencer_, w.sequencer); },
         [&] { clock_block<G>(cordic_, w.cordic); }, [&] { clock_block<G>(rear_, w.rear); },
@@ -243,7 +251,8 @@ class OdometryFabric {
     while (n != 0 && !sequencer_.in(OdometryPhase::kIdle)) {
       const std::uint64_t iterations = cordic_wait();
       if (iterations == 0) {
-        clock_units<Gating::kOn>(wires(in, cfg), DeclarationOrder{});
+        // The EPPMs' inputs are not needed: they advance on their own.
+        clock_units<Gating::kOn>(unit_wires(in, cfg), DeclarationOrder{});
         --n;
         continue;
       }
