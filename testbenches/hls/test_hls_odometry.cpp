@@ -1,6 +1,6 @@
 // The odometry datapath kernel (hls/odometry_kernel.hpp) against the cycle
-// model, compiled once per type family:
-// - its widths and encodings are the model's (compile time);
+// model, compiled once per type family. Both run logic/odometry.hpp, so these
+// check the type families and the kernel's port mapping:
 // - under the reference's seeded random stimulus (odometry_reference.cpp)
 //   every output equals the model's after every call, and the stimulus
 //   reaches the rare cases it claims (overrun, clamp, saturation, wraps,
@@ -33,37 +33,7 @@ namespace hk = odoloc::hls::odometry;
 namespace rtl = odoloc::rtl;
 using odoloc::hls::to_s64;
 
-// ---- the kernel's widths and encodings are the model's ---------------------
-static_assert(hk::kCountBits == rtl::PositionCount::width);
-static_assert(hk::kScaleBits == decltype(rtl::RearOdometryUnit::In::ds_scale)::width);
-static_assert(hk::kDistanceBits == rtl::Distance::width);
-static_assert(hk::kHeadingBits == rtl::Heading::width);
-static_assert(hk::kSteerBits == rtl::Steer::width);
-static_assert(hk::kSteerPositionBits ==
-              decltype(rtl::FrontOdometryUnitRegs::steer_position)::width);
-static_assert(hk::kDriveBits == decltype(rtl::FrontOdometryUnitRegs::drive)::width);
-static_assert(hk::kDriveBits == decltype(rtl::FrontOdometryUnitRegs::turn_per_sin)::width);
-static_assert(hk::kAccumulatorBits == rtl::MinSelect::Accumulator::width);
-static_assert(hk::kThetaBits == decltype(rtl::PoseIntegratorRegs::theta)::width);
-static_assert(2 * hk::kWordBits == decltype(rtl::PoseIntegratorRegs::x)::width);
-static_assert(hk::kPhaseBits == decltype(rtl::OdometrySequencerRegs::phase)::width);
-static_assert(hk::kPeriodBits == decltype(rtl::OdometrySequencerRegs::period_count)::width);
-static_assert(hk::kUpdatesBits == decltype(rtl::OdometrySequencerRegs::updates)::width);
-static_assert(hk::kPolicyBits == decltype(rtl::MinSelect::In::policy)::width);
-static_assert(hk::kShiftBits == decltype(rtl::MinSelect::In::shift)::width);
-static_assert(hk::kPhaseIdle == rtl::encoding(rtl::OdometryPhase::kIdle));
-static_assert(hk::kPhaseLatch == rtl::encoding(rtl::OdometryPhase::kLatch));
-static_assert(hk::kPhaseGather == rtl::encoding(rtl::OdometryPhase::kGather));
-static_assert(hk::kPhasePhiLoad == rtl::encoding(rtl::OdometryPhase::kPhiLoad));
-static_assert(hk::kPhasePhiWait == rtl::encoding(rtl::OdometryPhase::kPhiWait));
-static_assert(hk::kPhaseFront == rtl::encoding(rtl::OdometryPhase::kFront));
-static_assert(hk::kPhaseSelect == rtl::encoding(rtl::OdometryPhase::kSelect));
-static_assert(hk::kPhaseThetaLoad == rtl::encoding(rtl::OdometryPhase::kThetaLoad));
-static_assert(hk::kPhaseThetaWait == rtl::encoding(rtl::OdometryPhase::kThetaWait));
-static_assert(hk::kPolicyPerComponent == rtl::encoding(rtl::MinSelectPolicy::kPerComponent));
-static_assert(hk::kPolicyWholeSet == rtl::encoding(rtl::MinSelectPolicy::kWholeSet));
-static_assert(hk::kPolicyRearOnly == rtl::encoding(rtl::MinSelectPolicy::kRearOnly));
-static_assert(hk::kPolicyFrontOnly == rtl::encoding(rtl::MinSelectPolicy::kFrontOnly));
+namespace oc = rtl::odometry;
 
 constexpr std::int64_t kTwo40 = std::int64_t{1} << 40;
 
@@ -140,8 +110,8 @@ std::string register_difference(const hk::Registers& k, const rtl::OdometryFabri
   c("select.front_ds_sum", k.select.front_ds_sum, se.front_ds_sum);
   c("select.rear_dtheta_sum", k.select.rear_dtheta_sum, se.rear_dtheta_sum);
   c("select.front_dtheta_sum", k.select.front_dtheta_sum, se.front_dtheta_sum);
-  c.equal("pose.x", wide(k.pose.x.hi, k.pose.x.lo), f.pose().x.value());
-  c.equal("pose.y", wide(k.pose.y.hi, k.pose.y.lo), f.pose().y.value());
+  c.equal("pose.x", wide(k.pose.x.hi, k.pose.x.lo), rtl::pose_coordinate(f.pose().x).value());
+  c.equal("pose.y", wide(k.pose.y.hi, k.pose.y.lo), rtl::pose_coordinate(f.pose().y).value());
   c("pose.theta", k.pose.theta, f.pose().theta);
   const auto& r = f.report();
   c("report.rear_ds", k.report.rear_ds, r.rear_ds);
@@ -264,7 +234,7 @@ TEST(HlsOdometry, TheStimulusReachesTheRareCases) {
     std::size_t i = 0;
     visit_fields(in, [&](const char*, auto& field) { field = in_row[i++]; });
     const bool integrating =
-        to_s64(regs.sequencer.phase) == hk::kPhaseThetaWait && to_s64(regs.cordic.ready) == 1;
+        to_s64(regs.sequencer.phase) == oc::kPhaseThetaWait && to_s64(regs.cordic.ready) == 1;
     hk::step(regs, in, out);
     std::size_t o = 0;
     visit_fields(out, [&](const char*, auto& field) { mismatches += to_s64(field) != want[o++]; });
@@ -474,7 +444,7 @@ TEST(HlsOdometry, PoseWrapsAndSetPoseWins) {
   b.in.rear_dtheta_scale = 1U << 20;
   b.in.n_left = (1 << 19) - 1;
   b.in.n_right = (1 << 19) - 2;  // turns right a little: theta goes down through 0
-  b.in.policy = hk::kPolicyRearOnly;
+  b.in.policy = oc::kPolicyRearOnly;
   b.in.set_x_hi = 0x7FFFFFFF;
   b.in.set_x_lo = 0xFFFFF000U;  // 2^63 - 4096: the next update wraps x
   b.in.set_theta = 0;
@@ -486,7 +456,8 @@ TEST(HlsOdometry, PoseWrapsAndSetPoseWins) {
   ASSERT_GT(ds, 0);
   ASSERT_LT(dtheta, 0);
   // The heading CORDIC ran at theta + dtheta / 2, just below one turn.
-  const auto angle = rtl::to_cordic_angle(rtl::Heading::truncate(dtheta).shr<1>());
+  const auto angle = odoloc::logic::odometry::to_cordic_angle<rtl::Family>(
+      rtl::Heading::truncate(dtheta).shr<1>());
   const rtl::cordic::SinCos sc = rtl::cordic::sincos(angle);
   const std::uint64_t x =
       (std::uint64_t{1} << 63) - 4096 + static_cast<std::uint64_t>(ds * sc.cos.value());
@@ -495,7 +466,7 @@ TEST(HlsOdometry, PoseWrapsAndSetPoseWins) {
   EXPECT_EQ(to_s64(b.out.pose_theta), kTwo40 + dtheta);  // wrapped below one turn
   // set_pose in the very clock the pose would integrate: the set values win.
   while (
-      !(to_s64(b.regs.sequencer.phase) == hk::kPhaseThetaWait && to_s64(b.regs.cordic.ready) == 1))
+      !(to_s64(b.regs.sequencer.phase) == oc::kPhaseThetaWait && to_s64(b.regs.cordic.ready) == 1))
     b.step();
   b.in.set_x_hi = 0;
   b.in.set_x_lo = 7;

@@ -273,8 +273,8 @@ TEST(OdolocChip, SetPoseLoadsThePoseWords) {
   b.bus.read(o::pose_x_lo::kAddress, pose);
   EXPECT_EQ(pose, (Words{lo(x), hi(x), lo(y), hi(y), static_cast<std::uint32_t>(theta),
                          static_cast<std::uint32_t>(theta >> 32)}));
-  EXPECT_EQ(b.link.chip().fabric().pose().x.value(), x);
-  EXPECT_EQ(b.link.chip().fabric().pose().y.value(), y);
+  EXPECT_EQ(odoloc::rtl::pose_coordinate(b.link.chip().fabric().pose().x).value(), x);
+  EXPECT_EQ(odoloc::rtl::pose_coordinate(b.link.chip().fabric().pose().y).value(), y);
   EXPECT_EQ(b.link.chip().fabric().pose().theta.value(), theta);
 }
 

@@ -39,10 +39,18 @@ using Results = std::vector<std::uint64_t>;
 Results fabric_results(const OdolocChip& chip) {
   const auto& f = chip.fabric();
   const auto& r = f.report();
-  return {f.sequencer().updates.value(), f.pose().x.raw_bits(),     f.pose().y.raw_bits(),
-          f.pose().theta.value(),        r.rear_ds.raw_bits(),      r.rear_dtheta.raw_bits(),
-          r.front_ds.raw_bits(),         r.front_dtheta.raw_bits(), r.ds.raw_bits(),
-          r.dtheta.raw_bits(),           r.steer_phi.raw_bits(),    r.steer_position.raw_bits()};
+  return {f.sequencer().updates.value(),
+          odoloc::rtl::pose_coordinate(f.pose().x).raw_bits(),
+          odoloc::rtl::pose_coordinate(f.pose().y).raw_bits(),
+          f.pose().theta.value(),
+          r.rear_ds.raw_bits(),
+          r.rear_dtheta.raw_bits(),
+          r.front_ds.raw_bits(),
+          r.front_dtheta.raw_bits(),
+          r.ds.raw_bits(),
+          r.dtheta.raw_bits(),
+          r.steer_phi.raw_bits(),
+          r.steer_position.raw_bits()};
 }
 
 // The same, decoded from the words of one read burst with the map's fields.

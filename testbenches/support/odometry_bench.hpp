@@ -19,8 +19,8 @@ struct SiPose {
 };
 
 inline SiPose si_pose(const rtl::PoseIntegrator::Regs& p) {
-  return {sw::pose_metres(p.x.value()), sw::pose_metres(p.y.value()),
-          sw::heading_radians(p.theta.value())};
+  return {sw::pose_metres(rtl::pose_coordinate(p.x).value()),
+          sw::pose_metres(rtl::pose_coordinate(p.y).value()), sw::heading_radians(p.theta.value())};
 }
 
 inline double angle_difference(double a, double b) {

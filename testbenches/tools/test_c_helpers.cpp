@@ -626,8 +626,8 @@ TEST(CFirmwareOnTheSimulatedBoard, ReadsTheCountBackwardsAndANegativePose) {
   ASSERT_TRUE(tb_fw_read_pose(&b.fw, &gx, &gy, &gtheta));
   EXPECT_EQ(b.fw.last_status, 0U);  // the set_pose command frame was good
   const auto& pose = b.link.chip().fabric().pose();
-  EXPECT_EQ(pose.x.value(), x);
-  EXPECT_EQ(pose.y.value(), y);
+  EXPECT_EQ(odoloc::rtl::pose_coordinate(pose.x).value(), x);
+  EXPECT_EQ(odoloc::rtl::pose_coordinate(pose.y).value(), y);
   EXPECT_EQ(pose.theta.value(), theta);
   EXPECT_EQ(gx, x);
   EXPECT_EQ(gy, y);

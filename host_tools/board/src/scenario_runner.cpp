@@ -17,8 +17,8 @@ sw::EncoderGeometry nominal(const world::WheelEncoder& w) {
 }
 
 world::Pose fabric_pose(const rtl::PoseIntegrator::Regs& p) {
-  return {sw::pose_metres(p.x.value()), sw::pose_metres(p.y.value()),
-          sw::heading_radians(p.theta.value())};
+  return {sw::pose_metres(rtl::pose_coordinate(p.x).value()),
+          sw::pose_metres(rtl::pose_coordinate(p.y).value()), sw::heading_radians(p.theta.value())};
 }
 
 }  // namespace

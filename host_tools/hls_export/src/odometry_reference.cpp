@@ -1,10 +1,6 @@
-// The odometry datapath of rtl::OdometryFabric behind the odometry kernel's
-// ports: the sequencer, the shared SequentialCordic, the rear and front units,
-// min-select, the pose integrator and the report, wired as
-// OdometryFabric::wires() wires them, with the four EPPMs' latched counts as
-// inputs instead of the EPPMs (odometry_kernel.hpp says why). test_hls_odometry
-// also runs the kernel against the whole rtl::OdometryFabric, so this wiring
-// cannot drift from the fabric's unnoticed.
+// rtl::OdometryDatapath (the odometry fabric without its four EPPMs, the
+// block rtl::OdometryFabric composes) behind the odometry kernel's ports: one
+// call = one model step(in, cfg), then its latch wire and status().
 //
 // Stimulus (the model's state steers it, so the rare cases come often):
 // - Configuration: a profile drawn at start and redrawn one call in 8192:
@@ -38,7 +34,6 @@
 #include <cstdint>
 #include <random>
 
-#include "odoloc/rtl/cordic.hpp"
 #include "odoloc/rtl/encoder_fabric.hpp"  // the encoders' names and count format
 #include "odoloc/rtl/odometry.hpp"
 #include "references.hpp"
@@ -151,16 +146,17 @@ std::int64_t low_word(SInt<64> v) {
 
 // The datapath's ports in the model's types.
 struct Ports {
-  std::array<rtl::PositionCount, rtl::kEncoderCount> latched{};  // by rtl::Encoder
+  rtl::OdometryDatapath::In in;
   rtl::OdometryConfig cfg;
-  rtl::OdometryPulses pulses;
-  UInt<1> reset;
 };
 
 Ports decode(std::span<const std::int64_t> in) {
   Ports p;
-  for (std::size_t w = 0; w < rtl::kEncoderCount; ++w)
-    p.latched[w] = signed_port<rtl::PositionCount::width>(in[kNLeft + w]);
+  rtl::LatchedCounts& n = p.in.latched;
+  n.left_rear = signed_port<rtl::PositionCount::width>(in[kNLeft]);
+  n.right_rear = signed_port<rtl::PositionCount::width>(in[kNRight]);
+  n.front_drive = signed_port<rtl::PositionCount::width>(in[kNFront]);
+  n.steering = signed_port<rtl::PositionCount::width>(in[kNSteer]);
   rtl::OdometryConfig& c = p.cfg;
   c.cfg.update_clocks = unsigned_port<16>(in[kUpdateClocks]);
   c.cfg.policy = unsigned_port<2>(in[kPolicy]);
@@ -176,142 +172,41 @@ Ports decode(std::span<const std::int64_t> in) {
   c.set_x.bits = from_words(in[kSetXHi], in[kSetXLo]);
   c.set_y.bits = from_words(in[kSetYHi], in[kSetYLo]);
   c.set_theta.bits = unsigned_port<40>(in[kSetTheta]);
-  p.pulses.status.overrun = unsigned_port<1>(in[kClearOverrun]);
-  p.pulses.status.steer_clamped = unsigned_port<1>(in[kClearSteerClamped]);
-  p.pulses.command.set_pose = unsigned_port<1>(in[kSetPose]);
-  p.pulses.command.clear_flags = unsigned_port<1>(in[kClearFlags]);
-  p.reset = unsigned_port<1>(in[kReset]);
+  rtl::OdometryPulses& pulses = p.in.odometry;
+  pulses.status.overrun = unsigned_port<1>(in[kClearOverrun]);
+  pulses.status.steer_clamped = unsigned_port<1>(in[kClearSteerClamped]);
+  pulses.command.set_pose = unsigned_port<1>(in[kSetPose]);
+  pulses.command.clear_flags = unsigned_port<1>(in[kClearFlags]);
+  p.in.reset = unsigned_port<1>(in[kReset]);
   return p;
 }
 
-// rtl::OdometryFabric without its EncoderFabric: the same children, wired
-// from the current registers as OdometryFabric::wires() wires them.
-class OdometryDatapath {
- public:
-  void step(const Ports& p) {
-    const rtl::OdometryConfig& oc = p.cfg;
-    const UInt<1> clear_all = p.pulses.command.clear_flags;
-    const UInt<1> phi_load = phase_is(OdometryPhase::kPhiLoad);
-    const UInt<1> theta_load = phase_is(OdometryPhase::kThetaLoad);
-    const UInt<1> gather = phase_is(OdometryPhase::kGather);
-    const UInt<1> integrate = phase_is(OdometryPhase::kThetaWait) & cordic_.regs().ready;
-    const rtl::cordic::SinCos sincos = cordic_.regs().result;
-    const auto latched = [&](rtl::Encoder w) { return p.latched[static_cast<std::size_t>(w)]; };
-    const rtl::RearOdometryUnit::Regs& rear = rear_.regs();
-    const rtl::FrontOdometryUnit::Regs& front = front_.regs();
-    const rtl::MinSelect::Regs& select = select_.regs();
-    const rtl::OdometrySequencer::In sequencer_in{
-        .update_clocks = oc.cfg.update_clocks,
-        .cordic_ready = cordic_.regs().ready,
-        .clear_overrun = p.pulses.status.overrun | clear_all,
-        .reset = p.reset};
-    const rtl::SequentialCordic::In cordic_in{
-        .load = phi_load | theta_load,
-        .angle = phi_load ? front_.cordic_angle() : integrator_.cordic_angle(select.dtheta),
-        .clear_flags = p.pulses.status.overrun | clear_all,
-        .reset = p.reset};
-    const rtl::RearOdometryUnit::In rear_in{.start = gather,
-                                            .n_left = latched(rtl::Encoder::kLeftRear),
-                                            .n_right = latched(rtl::Encoder::kRightRear),
-                                            .ds_scale = oc.rear_ds_scale.value,
-                                            .dtheta_scale = oc.rear_dtheta_scale.value,
-                                            .reset = p.reset};
-    const rtl::FrontOdometryUnit::In front_in{
-        .start = gather,
-        .finish = phase_is(OdometryPhase::kFront),
-        .n_front = latched(rtl::Encoder::kFrontDrive),
-        .n_steer = latched(rtl::Encoder::kSteering),
-        .steer_sincos = sincos,
-        .ds_scale = oc.front_ds_scale.value,
-        .dtheta_scale = oc.front_dtheta_scale.value,
-        .steer_scale = oc.steer_scale.value,
-        .steer_limit = oc.steer_limit.value,
-        .clear_clamp = p.pulses.status.steer_clamped | clear_all,
-        .reset = p.reset};
-    const rtl::MinSelect::In select_in{.select = phase_is(OdometryPhase::kSelect),
-                                       .rear = rear,
-                                       .front_ds = front.ds,
-                                       .front_dtheta = front.dtheta,
-                                       .policy = oc.cfg.policy,
-                                       .shift = oc.cfg.select_shift,
-                                       .ds_threshold = oc.select_ds_threshold.value,
-                                       .dtheta_threshold = oc.select_dtheta_threshold.value,
-                                       .reset = p.reset};
-    const rtl::PoseIntegrator::In integrator_in{
-        .integrate = integrate,
-        .ds = select.ds,
-        .dtheta = select.dtheta,
-        .heading_sincos = sincos,
-        .set_pose = p.pulses.command.set_pose,
-        .new_pose = {.x = oc.set_x.bits, .y = oc.set_y.bits, .theta = oc.set_theta.bits},
-        .reset = p.reset};
-    const rtl::OdometryReport::In report_in{.publish = integrate,
-                                            .rear = rear,
-                                            .front_ds = front.ds,
-                                            .front_dtheta = front.dtheta,
-                                            .steer_phi = front.phi,
-                                            .steer_position = front.steer_position,
-                                            .ds = select.ds,
-                                            .dtheta = select.dtheta,
-                                            .ds_from_front = select.ds_from_front,
-                                            .dtheta_from_front = select.dtheta_from_front,
-                                            .reset = p.reset};
-    // Every In above is a value: the clock edges below cannot see each other.
-    rtl::clock_block<rtl::Gating::kOff>(sequencer_, sequencer_in);
-    rtl::clock_block<rtl::Gating::kOff>(cordic_, cordic_in);
-    rtl::clock_block<rtl::Gating::kOff>(rear_, rear_in);
-    rtl::clock_block<rtl::Gating::kOff>(front_, front_in);
-    rtl::clock_block<rtl::Gating::kOff>(select_, select_in);
-    rtl::clock_block<rtl::Gating::kOff>(integrator_, integrator_in);
-    rtl::clock_block<rtl::Gating::kOff>(report_, report_in);
-  }
-
-  // The kernel's outputs, from the registers after the edge.
-  void outputs(std::span<std::int64_t> out) const {
-    const auto& s = sequencer_.regs();
-    const auto& pose = integrator_.regs();
-    const auto& r = report_.regs();
-    const std::array<std::int64_t, kOut.size()> values{
-        sequencer_.in(OdometryPhase::kLatch) ? 1 : 0,
-        static_cast<std::int64_t>(s.phase.value()),
-        static_cast<std::int64_t>(s.overrun.value()),
-        static_cast<std::int64_t>(front_.regs().clamp_flag.value()),
-        static_cast<std::int64_t>(r.ds_from_front.value()),
-        static_cast<std::int64_t>(r.dtheta_from_front.value()),
-        static_cast<std::int64_t>(s.updates.value()),
-        high_word(pose.x),
-        low_word(pose.x),
-        high_word(pose.y),
-        low_word(pose.y),
-        static_cast<std::int64_t>(pose.theta.value()),
-        r.rear_ds.value(),
-        r.rear_dtheta.value(),
-        r.front_ds.value(),
-        r.front_dtheta.value(),
-        r.ds.value(),
-        r.dtheta.value(),
-        r.steer_phi.value(),
-        r.steer_position.value()};
-    std::copy(values.begin(), values.end(), out.begin());
-  }
-
-  [[nodiscard]] const rtl::OdometrySequencer& sequencer() const { return sequencer_; }
-  [[nodiscard]] const rtl::SequentialCordic& cordic() const { return cordic_; }
-  [[nodiscard]] const rtl::FrontOdometryUnit& front() const { return front_; }
-
- private:
-  [[nodiscard]] UInt<1> phase_is(OdometryPhase p) const {
-    return UInt<1>::truncate(sequencer_.in(p));
-  }
-
-  rtl::OdometrySequencer sequencer_;
-  rtl::SequentialCordic cordic_;
-  rtl::RearOdometryUnit rear_;
-  rtl::FrontOdometryUnit front_;
-  rtl::MinSelect select_;
-  rtl::PoseIntegrator integrator_;
-  rtl::OdometryReport report_;
-};
+// The kernel's outputs, from the datapath's registers after the edge.
+void encode(const rtl::OdometryDatapath& d, std::span<std::int64_t> out) {
+  const rtl::OdometryStatus s = d.status();
+  const auto u = [](auto v) { return static_cast<std::int64_t>(v.value()); };
+  const std::array<std::int64_t, kOut.size()> values{u(d.latch()),
+                                                     u(s.status.phase),
+                                                     u(s.status.overrun),
+                                                     u(s.status.steer_clamped),
+                                                     u(s.status.ds_from_front),
+                                                     u(s.status.dtheta_from_front),
+                                                     u(s.updates.count),
+                                                     high_word(s.pose_x.bits),
+                                                     low_word(s.pose_x.bits),
+                                                     high_word(s.pose_y.bits),
+                                                     low_word(s.pose_y.bits),
+                                                     u(s.pose_theta.bits),
+                                                     s.rear_ds.bits.value(),
+                                                     s.rear_dtheta.bits.value(),
+                                                     s.front_ds.bits.value(),
+                                                     s.front_dtheta.bits.value(),
+                                                     s.ds.bits.value(),
+                                                     s.dtheta.bits.value(),
+                                                     s.steer_phi.bits.value(),
+                                                     s.steer_position.counts.value()};
+  std::copy(values.begin(), values.end(), out.begin());
+}
 
 class OdometryReference final : public Reference {
  public:
@@ -331,7 +226,7 @@ class OdometryReference final : public Reference {
       draw_update_clocks();
     if (one_in(32))
       draw_set_pose_values();
-    const bool gather = model_.sequencer().in(OdometryPhase::kGather);
+    const bool gather = model_.phase() == OdometryPhase::kGather;
     if (gather)
       draw_counts();
     std::copy(held_.begin(), held_.end(), in.begin());
@@ -339,9 +234,9 @@ class OdometryReference final : public Reference {
       for (std::size_t w = 0; w < rtl::kEncoderCount; ++w)
         in[kNLeft + w] = wrap20(static_cast<std::int64_t>(rng_()));
     }
-    const bool integrates = model_.sequencer().in(OdometryPhase::kThetaWait) &&
-                            model_.cordic().regs().ready.value() == 1;
-    const bool busy = !model_.sequencer().in(OdometryPhase::kIdle);
+    const bool integrates =
+        model_.phase() == OdometryPhase::kThetaWait && model_.cordic().ready.value() == 1;
+    const bool busy = model_.phase() != OdometryPhase::kIdle;
     in[kClearOverrun] = one_in(64) ? 1 : 0;
     in[kClearSteerClamped] = one_in(64) ? 1 : 0;
     in[kClearFlags] = one_in(1024) ? 1 : 0;
@@ -350,8 +245,9 @@ class OdometryReference final : public Reference {
   }
 
   void step(std::span<const std::int64_t> in, std::span<std::int64_t> out) override {
-    model_.step(decode(in));
-    model_.outputs(out);
+    const Ports p = decode(in);
+    model_.step(p.in, p.cfg);
+    encode(model_, out);
   }
 
  private:
@@ -478,7 +374,7 @@ class OdometryReference final : public Reference {
       steer_rate_ = -steer_rate_;  // back from the stop
     // The vehicle's own kinematics at the current steering angle.
     const double phi =
-        6.283185307179586 * static_cast<double>(model_.front().regs().phi.value()) / kUnits40;
+        6.283185307179586 * static_cast<double>(model_.front().phi.value()) / kUnits40;
     const double tan_phi = std::clamp(std::tan(phi), -4.0, 4.0);
     const double cos_phi = std::max(std::abs(std::cos(phi)), 0.25);
     const double differential = track_ / 2 * tan_phi / wheelbase_;
@@ -512,7 +408,7 @@ class OdometryReference final : public Reference {
   }
 
   std::mt19937_64 rng_;
-  OdometryDatapath model_;
+  rtl::OdometryDatapath model_;
   std::array<std::int64_t, kInputCount> held_{};  // the inputs that persist between calls
   double kappa_rear_ = 1e-4, kappa_front_ = 1e-4, track_ = 0.3, wheelbase_ = 0.4;
   double speed_ = 0, steer_rate_ = 0;  // counts per control period

@@ -71,7 +71,15 @@ std::string int_type(bool is_signed, int width, Types types) {
     o << (is_signed ? "sint<F, " : "uint<F, ") << width << ">";
   return o.str();
 }
+// A family integer holds at most 63 bits (hls/own_int.hpp): a wider port is
+// logic::Words there, two 32-bit words (logic/int_family.hpp).
+constexpr int kFamilyMaxBits = 63;
+bool family_words(const Field& f, Types types) {
+  return types == Types::kFamily && f.port_width > kFamilyMaxBits;
+}
 std::string port_type(const Field& f, Types types = Types::kModel) {
+  if (family_words(f, types))
+    return f.port_signed ? "Words<F, true>" : "Words<F, false>";
   return int_type(f.port_signed, f.port_width, types);
 }
 
@@ -86,6 +94,12 @@ std::string raw(const Field& f, const std::string& port) {
 std::string initialiser(const Field& f, Types types) {
   std::ostringstream o;
   const std::uint64_t bits = f.port_reset;
+  if (family_words(f, types)) {
+    const std::uint64_t high = bits >> 32;
+    o << "{{" << (f.port_signed ? sign_extended(high, 32) : static_cast<std::int64_t>(high))
+      << (f.port_signed ? "LL" : "ULL") << "}, {" << (bits & 0xFFFFFFFFU) << "ULL}}";
+    return o.str();
+  }
   if (types == Types::kFamily) {
     if (f.port_signed)
       o << "{" << sign_extended(bits, f.port_width) << "LL}";
@@ -343,7 +357,9 @@ std::string emit_logic_ports(const RegisterMap& map) {
     << "// C++14: per block, Config (rw fields the hardware reads, reset values as\n"
     << "// member initialisers), Pulses (one-clock strobes of software writes) and\n"
     << "// Status (fields the hardware drives). The same members as odoloc/ports.hpp's\n"
-    << "// structs of the model's types; a register array is a C array.\n"
+    << "// structs of the model's types; a register array is a C array, and a\n"
+    << "// 64-bit port is a logic::Words (two 32-bit words: a family integer holds\n"
+    << "// at most 63 bits).\n"
     << "#pragma once\n\n#include \"odoloc/logic/int_family.hpp\"\n\n"
     << "namespace odoloc {\nnamespace logic {\nnamespace ports {\n\n";
   for (const Block& b : map.blocks) {

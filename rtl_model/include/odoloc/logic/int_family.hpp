@@ -94,7 +94,74 @@ template <class H, class L>
 inline uint<typename IntTraits<H>::family, IntTraits<H>::width + IntTraits<L>::width> generic_cat(
     const H& high, const L& low) {
   using Result = uint<typename IntTraits<H>::family, IntTraits<H>::width + IntTraits<L>::width>;
-  return wrap<Result>(shl<IntTraits<L>::width>(high) | wrap<Result>(low));
+  return wrap<Result>(shl<IntTraits<L>::width>(high) |
+                      wrap<Result>(bits<IntTraits<L>::width - 1, 0>(low)));
+}
+
+// (v + 2^(N-1)) >> N in W + 1 - N bits (W: v's width): round half up, the
+// fixed-point "round to nearest" of the datapaths (rtl::round_shr).
+template <int N, class T>
+inline sint<typename IntTraits<T>::family, IntTraits<T>::width + 1 - N> round_shr(const T& v) {
+  using F = typename IntTraits<T>::family;
+  using Biased = sint<F, IntTraits<T>::width + 1>;
+  const Biased biased = wrap<Biased>(v + sint<F, N + 1>(1LL << (N - 1)));
+  return wrap<sint<F, IntTraits<T>::width + 1 - N> >(shr<N>(biased));
+}
+
+// v clamped to R's two's complement range (R signed; rtl's sat<N>).
+template <class R, class T>
+inline R saturate(const T& v) {
+  const long long most = (1LL << (IntTraits<R>::width - 1)) - 1;
+  if (v > R(most))
+    return R(most);
+  if (v < R(-most - 1))
+    return R(-most - 1);
+  return wrap<R>(v);
+}
+
+// A 64-bit register as two 32-bit words, high word signed (a 64-bit
+// two's complement value) or not: one integer of a family holds at most 63
+// bits (hls/own_int.hpp), and a 64-bit accumulator is two 32-bit adders with
+// a carry in the fabric too. The register map's 64-bit fields are Words in
+// logic/ports.hpp.
+template <class F, bool Signed>
+struct HighWord {
+  typedef sint<F, 32> type;
+};
+template <class F>
+struct HighWord<F, false> {
+  typedef uint<F, 32> type;
+};
+template <class F, bool Signed = true>
+struct Words {
+  typename HighWord<F, Signed>::type hi{0};
+  uint<F, 32> lo{0};
+};
+
+// A 64-bit value (a Words, or a 64-bit integer of a family that has one)
+// as Words.
+template <class F, bool Signed>
+inline Words<F, Signed> to_words(const Words<F, Signed>& w) {
+  return w;
+}
+template <class T>
+inline Words<typename IntTraits<T>::family> to_words(const T& v) {
+  using F = typename IntTraits<T>::family;
+  static_assert(IntTraits<T>::width == 64, "to_words takes a 64-bit value");
+  Words<F> w;
+  w.hi = wrap<sint<F, 32> >(shr<32>(v));
+  w.lo = wrap<uint<F, 32> >(v);
+  return w;
+}
+// Stores Words into a 64-bit port (a Words, or a 64-bit integer).
+template <class F, bool Signed>
+inline void from_words(Words<F, Signed>& port, const Words<F, Signed>& w) {
+  port = w;
+}
+template <class T, class F, bool Signed>
+inline void from_words(T& port, const Words<F, Signed>& w) {
+  static_assert(IntTraits<T>::width == 64, "from_words fills a 64-bit value");
+  port = wrap<T>(cat(w.hi, w.lo));
 }
 
 }  // namespace logic

@@ -77,6 +77,13 @@ class UInt {
     r.bits_ = static_cast<Storage>(value & mask);
     return r;
   }
+  // A value that fits W bits by construction (the growing operators' exact
+  // results): no mask to compute.
+  static constexpr UInt exact(std::uint64_t value) {
+    UInt r;
+    r.bits_ = static_cast<Storage>(value);
+    return r;
+  }
 
   // The range promise lets the optimiser drop masks that cannot change a value.
   [[nodiscard]] constexpr std::uint64_t value() const {
@@ -116,13 +123,13 @@ class UInt {
   }
   template <int N>
   [[nodiscard]] constexpr UInt<(W - N > 0 ? W - N : 1)> shr() const {
-    return UInt<(W - N > 0 ? W - N : 1)>::truncate(N >= 64 ? 0 : std::uint64_t{bits_} >> N);
+    return UInt<(W - N > 0 ? W - N : 1)>::exact(N >= 64 ? 0 : std::uint64_t{bits_} >> N);
   }
 
   // Shift right by a run-time amount (a barrel shifter): same width.
   template <int K>
   [[nodiscard]] constexpr UInt<W> dshr(UInt<K> amount) const {
-    return truncate(amount.value() >= 64 ? 0 : std::uint64_t{bits_} >> amount.value());
+    return exact(amount.value() >= 64 ? 0 : std::uint64_t{bits_} >> amount.value());
   }
 
   constexpr UInt<W> operator~() const { return truncate(~std::uint64_t{bits_}); }
@@ -158,6 +165,13 @@ class SInt {
   static constexpr SInt truncate(std::int64_t value) {
     SInt r;
     r.value_ = static_cast<Storage>(detail::sign_extend(static_cast<std::uint64_t>(value), W));
+    return r;
+  }
+  // A value that fits W bits by construction (the growing operators' exact
+  // results): no sign extension to compute.
+  static constexpr SInt exact(std::int64_t value) {
+    SInt r;
+    r.value_ = static_cast<Storage>(value);
     return r;
   }
 
@@ -200,16 +214,16 @@ class SInt {
   // Arithmetic shift right: rounds toward minus infinity, like the hardware.
   template <int N>
   [[nodiscard]] constexpr SInt<(W - N > 1 ? W - N : 2)> shr() const {
-    return SInt<(W - N > 1 ? W - N : 2)>::truncate(std::int64_t{value_} >> (N >= 64 ? 63 : N));
+    return SInt<(W - N > 1 ? W - N : 2)>::exact(std::int64_t{value_} >> (N >= 64 ? 63 : N));
   }
 
   // Arithmetic shift right by a run-time amount (a barrel shifter): same width.
   template <int K>
   [[nodiscard]] constexpr SInt<W> dshr(UInt<K> amount) const {
-    return truncate(std::int64_t{value_} >> (amount.value() >= 63 ? 63 : amount.value()));
+    return exact(std::int64_t{value_} >> (amount.value() >= 63 ? 63 : amount.value()));
   }
 
-  constexpr SInt<W + 1> operator-() const { return SInt<W + 1>::truncate(-std::int64_t{value_}); }
+  constexpr SInt<W + 1> operator-() const { return SInt<W + 1>::exact(-std::int64_t{value_}); }
 
  private:
   using Storage = detail::signed_storage_t<W>;
@@ -230,7 +244,7 @@ constexpr SInt<W + 1> UInt<W>::to_sint() const {
 template <int A, int B>
 constexpr UInt<detail::max_width(A, B) + 1> operator+(UInt<A> a, UInt<B> b) {
   static_assert(detail::max_width(A, B) < 64, "sum would exceed 64 bits");
-  return UInt<detail::max_width(A, B) + 1>::truncate(a.value() + b.value());
+  return UInt<detail::max_width(A, B) + 1>::exact(a.value() + b.value());
 }
 template <int A, int B>
 constexpr UInt<detail::max_width(A, B) + 1> operator-(UInt<A> a, UInt<B> b) {
@@ -240,7 +254,7 @@ constexpr UInt<detail::max_width(A, B) + 1> operator-(UInt<A> a, UInt<B> b) {
 template <int A, int B>
 constexpr UInt<A + B> operator*(UInt<A> a, UInt<B> b) {
   static_assert(A + B <= 64, "product would exceed 64 bits");
-  return UInt<A + B>::truncate(a.value() * b.value());
+  return UInt<A + B>::exact(a.value() * b.value());
 }
 template <int A, int B>
 constexpr UInt<detail::max_width(A, B)> operator&(UInt<A> a, UInt<B> b) {
@@ -267,17 +281,17 @@ constexpr auto operator<=>(UInt<A> a, UInt<B> b) {
 template <int A, int B>
 constexpr SInt<detail::max_width(A, B) + 1> operator+(SInt<A> a, SInt<B> b) {
   static_assert(detail::max_width(A, B) < 64, "sum would exceed 64 bits");
-  return SInt<detail::max_width(A, B) + 1>::truncate(a.value() + b.value());
+  return SInt<detail::max_width(A, B) + 1>::exact(a.value() + b.value());
 }
 template <int A, int B>
 constexpr SInt<detail::max_width(A, B) + 1> operator-(SInt<A> a, SInt<B> b) {
   static_assert(detail::max_width(A, B) < 64, "difference would exceed 64 bits");
-  return SInt<detail::max_width(A, B) + 1>::truncate(a.value() - b.value());
+  return SInt<detail::max_width(A, B) + 1>::exact(a.value() - b.value());
 }
 template <int A, int B>
 constexpr SInt<A + B> operator*(SInt<A> a, SInt<B> b) {
   static_assert(A + B <= 64, "product would exceed 64 bits");
-  return SInt<A + B>::truncate(a.value() * b.value());
+  return SInt<A + B>::exact(a.value() * b.value());
 }
 template <int A, int B>
 constexpr bool operator==(SInt<A> a, SInt<B> b) {

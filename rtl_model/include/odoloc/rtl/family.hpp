@@ -36,15 +36,15 @@ struct is_rtl_int<UInt<W>> : std::true_type {};
 template <int W>
 struct is_rtl_int<SInt<W>> : std::true_type {};
 
-// The two's complement bits of any model integer or host integer.
+// The two's complement bits of any model integer or host integer, extended
+// to 64 bits by its sign: wrapping a signed value into a wider type keeps
+// its value, as ap_int and ac_int do.
 template <class From>
 constexpr std::uint64_t raw_bits(const From& v) {
   if constexpr (std::integral<From>)
     return static_cast<std::uint64_t>(v);
-  else if constexpr (requires { v.raw_bits(); })
-    return v.raw_bits();
   else
-    return v.value();
+    return static_cast<std::uint64_t>(v.value());
 }
 
 // ==, element by element for C arrays (the logic's register banks).
@@ -70,10 +70,26 @@ template <class T>
 struct ModelIntTraits {
   using family = rtl::Family;
   static constexpr int width = T::width;
+  // Every value of From is one of T: the same signedness and no wider, or
+  // unsigned into a wider signed type.
+  template <class From>
+  static constexpr bool fits() {
+    if constexpr (std::integral<From>) {
+      return false;
+    } else {
+      constexpr bool from_signed = std::is_same_v<From, rtl::SInt<From::width>>;
+      constexpr bool to_signed = std::is_same_v<T, rtl::SInt<T::width>>;
+      return from_signed == to_signed ? From::width <= T::width
+                                      : !from_signed && From::width < T::width;
+    }
+  }
   template <class From>
   requires(std::integral<From> || rtl::detail::is_rtl_int<From>::value)
       [[gnu::always_inline]] static constexpr T wrap(const From& v) {
-    return T::truncate(static_cast<decltype(T{}.value())>(rtl::detail::raw_bits(v)));
+    if constexpr (fits<From>())
+      return T::exact(v.value());
+    else
+      return T::truncate(static_cast<decltype(T{}.value())>(rtl::detail::raw_bits(v)));
   }
   [[gnu::always_inline]] static constexpr long long to_s64(T v) {
     return static_cast<long long>(v.value());
@@ -88,7 +104,7 @@ struct ModelIntTraits {
   }
   template <int N>
   [[gnu::always_inline]] static constexpr T shr(T v) {
-    return T::truncate(v.value() >> N);
+    return T::exact(v.value() >> N);
   }
   template <int K>
   [[gnu::always_inline]] static constexpr T shr_by(T v, rtl::UInt<K> amount) {
@@ -135,3 +151,7 @@ struct IntTraits<rtl::SInt<W>> : ModelIntTraits<rtl::SInt<W>> {};
   ODOLOC_LOGIC_FIELDS_BODY(ODOLOC_UNPAREN TYPE, __VA_ARGS__) \
   template <ODOLOC_UNPAREN PARAMETERS>                       \
   ODOLOC_LOGIC_EQUAL_BODY(ODOLOC_UNPAREN TYPE, __VA_ARGS__)
+
+namespace odoloc::rtl {
+ODOLOC_LOGIC_FIELDS_OF((bool Signed), (logic::Words<Family, Signed>), hi, lo)
+}  // namespace odoloc::rtl
