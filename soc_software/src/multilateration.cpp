@@ -614,22 +614,10 @@ std::optional<Vec2> rival_explains(const Fix& fix, const Model& model,
 
 namespace {
 
-Fix multilaterate_unsettled(const BeaconLayout& layout, const RangeSet& ranges,
-                            const MultilaterationOptions& options) {
-  layout.validate();
-  options.validate();
-  options.triangle.validate();
-  Fix fix;
-  fix.solver = Solver::kGaussNewton;
-  Prepared prepared = prepare(layout, ranges, options.min_sd_m);
-  fix.beacons = std::move(prepared.uses);
-
-  const bool c_finite = std::isfinite(ranges.speed_of_sound_mps) && ranges.speed_of_sound_mps > 0;
-  if (!c_finite) {
-    fix.reason = NoFixReason::kNonFiniteInput;
-    return fix;
-  }
-  const ConvexHull hull(layout);
+// The range model: the speed of sound the ranges assumed against the one
+// this fix assumes (k_prior) and, when calibrating, how uncertain k is.
+Model range_model(const BeaconLayout& layout, const ConvexHull& hull, const RangeSet& ranges,
+                  const MultilaterationOptions& options) {
   Model model{&layout, &hull};
   double c_assumed = ranges.speed_of_sound_mps;
   if (options.temperature_c)
@@ -644,16 +632,12 @@ Fix multilaterate_unsettled(const BeaconLayout& layout, const RangeSet& ranges,
     model.k_prior_sd = model.k_prior * relative_sd;
     model.consensus_slack_m = 4 * relative_sd * extent_m(layout);
   }
+  return model;
+}
 
-  if (options.check_triangle)
-    reject_too_long(layout, options, model, prepared, fix.beacons);
-
-  if (prepared.primaries.size() < 3) {
-    fix.reason =
-        prepared.any_non_finite ? NoFixReason::kNonFiniteInput : NoFixReason::kTooFewBeacons;
-    return fix;
-  }
-
+// Each usable beacon's primary reading and, robust, its other candidates.
+std::vector<BeaconCandidates> beacon_candidates(const RangeSet& ranges, const Prepared& prepared,
+                                                const MultilaterationOptions& options) {
   std::vector<BeaconCandidates> candidates;
   candidates.reserve(prepared.primaries.size());
   for (const Observation& p : prepared.primaries) {
@@ -663,161 +647,213 @@ Fix multilaterate_unsettled(const BeaconLayout& layout, const RangeSet& ranges,
         bc.options.push_back(alt);
     candidates.push_back(std::move(bc));
   }
+  return candidates;
+}
 
-  // Start point and the measurements to fit.
+// The measurements to fit and where the fit starts: a consensus of the
+// candidates (robust, or a lone triple), else every primary from the linear
+// solution. `failure` says why there is none.
+struct Start {
   std::vector<Observation> used;
-  std::vector<Consensus> rivals;
-  State start;
-  bool any_geometry = false;
-  bool any_inside = false;
+  std::vector<Consensus> rivals;  // other consistent beacon sets (robust)
+  State state;
+  NoFixReason failure = NoFixReason::kNone;
+};
+Start choose_start(const BeaconLayout& layout, const Model& model, const Prepared& prepared,
+                   const std::vector<BeaconCandidates>& candidates,
+                   const MultilaterationOptions& options) {
+  Start start;
   if (options.robust || prepared.primaries.size() == 3) {
     // A lone triple always agrees with itself: with more beacons usable, a
     // consensus needs one that checks it.
     const std::size_t needed = prepared.primaries.size() > 3 ? 4 : 3;
+    bool any_geometry = false;
+    bool any_inside = false;
     Consensus consensus =
-        find_consensus(model, candidates, options, needed, rivals, any_geometry, any_inside);
-    if (!any_geometry || !any_inside) {
-      fix.reason = any_geometry ? NoFixReason::kOutsideHull : NoFixReason::kDegenerateGeometry;
-      return fix;
-    }
-    if (consensus.inliers.size() < needed) {
-      fix.reason = NoFixReason::kInconsistent;
-      return fix;
-    }
-    used = std::move(consensus.inliers);
-    start = consensus.state;
-  } else {
-    used = prepared.primaries;
-    const std::optional<State> linear = linear_start(layout, used, model.k_prior);
-    if (!linear) {
-      fix.reason = NoFixReason::kDegenerateGeometry;
-      return fix;
-    }
-    start = *linear;
+        find_consensus(model, candidates, options, needed, start.rivals, any_geometry, any_inside);
+    if (!any_geometry || !any_inside)
+      start.failure = any_geometry ? NoFixReason::kOutsideHull : NoFixReason::kDegenerateGeometry;
+    else if (consensus.inliers.size() < needed)
+      start.failure = NoFixReason::kInconsistent;
+    start.used = std::move(consensus.inliers);
+    start.state = consensus.state;
+    return start;
   }
+  start.used = prepared.primaries;
+  const std::optional<State> linear = linear_start(layout, start.used, model.k_prior);
+  if (!linear)
+    start.failure = NoFixReason::kDegenerateGeometry;
+  else
+    start.state = *linear;
+  return start;
+}
 
+// The measurement whose studentised residual is the largest beyond the gate,
+// or used.size(): none (a measurement without redundancy says nothing).
+std::size_t worst_residual(const BeaconLayout& layout, const Model& model,
+                           std::span<const Observation> used, const State& state,
+                           const StateMatrix& covariance, double gate_sigmas) {
+  std::size_t worst = used.size();
+  double worst_t = gate_sigmas;
+  for (std::size_t i = 0; i < used.size(); ++i) {
+    const Observation& o = used[i];
+    const Row j = jacobian_row(
+        range_gradient(layout.beacons[static_cast<std::size_t>(o.beacon)], state.p), state.k);
+    const auto jd = j.head(covariance.rows());
+    const double leverage = (jd.transpose() * covariance * jd)(0, 0) / (o.sd_m * o.sd_m);
+    if (leverage > 1 - 1e-6)
+      continue;
+    const double t = std::abs(residual(model, o, state)) / (o.sd_m * std::sqrt(1 - leverage));
+    if (t > worst_t) {
+      worst_t = t;
+      worst = i;
+    }
+  }
+  return worst;
+}
+
+// Gauss-Newton from the start (position and offset at the assumed c first
+// when calibrating: from a triple solved at the wrong c, the four-state
+// problem can slide off toward the far field), then, robust, the
+// studentised residual test drops the worst while redundancy remains.
+struct Fitted {
+  FitResult fit;
+  std::optional<StateMatrix> covariance;
+  int iterations = 0;
+};
+Fitted fit_dropping_outliers(const BeaconLayout& layout, Model& model,
+                             std::vector<Observation>& used, State start,
+                             const MultilaterationOptions& options) {
   model.calibrate = options.calibrate_speed_of_sound &&
                     static_cast<int>(used.size()) >= options.min_beacons_to_calibrate;
   start.k = model.k_prior;
-  int iterations = 0;
+  Fitted f;
   if (model.calibrate) {
-    // Position and offset at the assumed c first: from a triple solved at
-    // the wrong c, the four-state problem can slide off toward the far field.
     Model fixed_c = model;
     fixed_c.calibrate = false;
     const FitResult first = gauss_newton(fixed_c, used, start, options);
-    iterations += first.iterations;
+    f.iterations += first.iterations;
     if (!first.singular)
       start = first.state;
   }
-  FitResult fit = gauss_newton(model, used, start, options);
-  iterations += fit.iterations;
-  StateMatrix n;
-  StateVector g;
-  std::optional<StateMatrix> covariance;
-  // Studentised residual test: drop the worst while redundancy remains.
-  for (;;) {
-    if (fit.singular)
+  f.fit = gauss_newton(model, used, start, options);
+  f.iterations += f.fit.iterations;
+  while (!f.fit.singular) {
+    f.covariance = state_covariance(model, used, f.fit.state);
+    if (!f.covariance || !options.robust || static_cast<int>(used.size()) <= model.dimension() + 1)
       break;
-    covariance = state_covariance(model, used, fit.state);
-    if (!covariance)
-      break;
-    if (!options.robust || static_cast<int>(used.size()) <= model.dimension() + 1)
-      break;
-    std::size_t worst = used.size();
-    double worst_t = options.residual_gate_sigmas;
-    for (std::size_t i = 0; i < used.size(); ++i) {
-      const Observation& o = used[i];
-      const Row j = jacobian_row(
-          range_gradient(layout.beacons[static_cast<std::size_t>(o.beacon)], fit.state.p),
-          fit.state.k);
-      const auto jd = j.head(covariance->rows());
-      const double leverage = (jd.transpose() * *covariance * jd)(0, 0) / (o.sd_m * o.sd_m);
-      if (leverage > 1 - 1e-6)
-        continue;  // not redundant: its residual says nothing
-      const double t = std::abs(residual(model, o, fit.state)) / (o.sd_m * std::sqrt(1 - leverage));
-      if (t > worst_t) {
-        worst_t = t;
-        worst = i;
-      }
-    }
+    const std::size_t worst = worst_residual(layout, model, used, f.fit.state, *f.covariance,
+                                             options.residual_gate_sigmas);
     if (worst == used.size())
       break;
     used.erase(used.begin() + static_cast<std::ptrdiff_t>(worst));
     model.calibrate =
         model.calibrate && static_cast<int>(used.size()) >= options.min_beacons_to_calibrate;
-    fit = gauss_newton(model, used, fit.state, options);
-    iterations += fit.iterations;
+    f.fit = gauss_newton(model, used, f.fit.state, options);
+    f.iterations += f.fit.iterations;
   }
+  return f;
+}
 
-  fix.iterations = iterations;
-  const bool enough = static_cast<int>(used.size()) >= options.min_beacons;
-  fill_uses(fix, model, used, candidates, fit.state);
-  fix.position_m = fit.state.p;
-  fix.offset_m = fit.state.o;
-  fix.speed_of_sound_mps = ranges.speed_of_sound_mps / fit.state.k;
-  if (fit.singular || !covariance) {
-    fix.reason = NoFixReason::kDegenerateGeometry;
-    return fix;
-  }
-  if (!fit.converged) {
-    fix.reason = NoFixReason::kNotConverged;
-    return fix;
-  }
-  fix.covariance_m2 = covariance->topLeftCorner<2, 2>();
-  fix.offset_sd_m = std::sqrt((*covariance)(2, 2));
+// The fix's uncertainty and fit statistics from a converged fit.
+void fill_statistics(Fix& fix, const Model& model, std::span<const Observation> used,
+                     const State& state, const StateMatrix& covariance, double c_ranges_mps) {
+  fix.covariance_m2 = covariance.topLeftCorner<2, 2>();
+  fix.offset_sd_m = std::sqrt(covariance(2, 2));
   fix.speed_of_sound_estimated = model.calibrate;
-  if (covariance->rows() == 4)
-    fix.speed_of_sound_sd_mps =
-        ranges.speed_of_sound_mps / (fit.state.k * fit.state.k) * std::sqrt((*covariance)(3, 3));
-  fix.chi2 = cost(model, used, fit.state);
+  if (covariance.rows() == 4)
+    fix.speed_of_sound_sd_mps = c_ranges_mps / (state.k * state.k) * std::sqrt(covariance(3, 3));
+  fix.chi2 = cost(model, used, state);
   fix.dof = static_cast<int>(used.size()) - model.dimension();
-  normal_equations(model, used, fit.state, true, n, g);
+  StateMatrix n;
+  StateVector g;
+  normal_equations(model, used, state, true, n, g);
   if (const std::optional<StateMatrix> unit = spd_inverse(n))
     fix.hdop = std::sqrt((*unit)(0, 0) + (*unit)(1, 1));
+}
 
-  if (!std::isfinite(fix.position_m.x) || !std::isfinite(fix.position_m.y)) {
-    fix.reason = NoFixReason::kNotConverged;
+// Three measurements and three unknowns: the other intersection fits too.
+// Sets fix.mirror_m to it; true when it is inside the hull and no prior
+// position decides between the two.
+bool mirror_ambiguous(Fix& fix, const BeaconLayout& layout, const ConvexHull& hull,
+                      std::span<const Observation> used, const State& state,
+                      const MultilaterationOptions& options) {
+  const std::array<Observation, 3> triple{used[0], used[1], used[2]};
+  const TripleSolutions sol =
+      solve_triple_closed_form(layout, std::span<const Observation, 3>(triple), state.k);
+  for (int s = 0; s < sol.count; ++s) {
+    const Vec2 q = sol.solutions[static_cast<std::size_t>(s)].position_m;
+    if (distance(q, fix.position_m) > 1e-3)
+      fix.mirror_m = q;
+  }
+  if (!fix.mirror_m || hull.distance_outside_m(*fix.mirror_m) > options.max_outside_hull_m)
+    return false;
+  const bool decided =
+      options.prior_position_m &&
+      distance(*fix.mirror_m, *options.prior_position_m) >=
+          distance(fix.position_m, *options.prior_position_m) + options.mirror_margin_m;
+  return !decided;
+}
+
+Fix multilaterate_unsettled(const BeaconLayout& layout, const RangeSet& ranges,
+                            const MultilaterationOptions& options) {
+  layout.validate();
+  options.validate();
+  options.triangle.validate();
+  Fix fix;
+  fix.solver = Solver::kGaussNewton;
+  Prepared prepared = prepare(layout, ranges, options.min_sd_m);
+  fix.beacons = std::move(prepared.uses);
+  const auto no_fix = [&fix](NoFixReason reason) {
+    fix.reason = reason;
     return fix;
-  }
-  if (!consistent(fix, model, used, candidates, options)) {
-    fix.reason = NoFixReason::kInconsistent;
-    return fix;
-  }
-  if (!enough) {
-    fix.reason = NoFixReason::kTooFewBeacons;
-    return fix;
-  }
-  if (hull.distance_outside_m(fix.position_m) > options.max_outside_hull_m) {
-    fix.reason = NoFixReason::kOutsideHull;
-    return fix;
-  }
-  // Three measurements and three unknowns: the other intersection fits too.
-  if (used.size() == 3 && !model.calibrate) {
-    const std::array<Observation, 3> triple{used[0], used[1], used[2]};
-    const TripleSolutions sol =
-        solve_triple_closed_form(layout, std::span<const Observation, 3>(triple), fit.state.k);
-    for (int s = 0; s < sol.count; ++s) {
-      const Vec2 q = sol.solutions[static_cast<std::size_t>(s)].position_m;
-      if (distance(q, fix.position_m) > 1e-3)
-        fix.mirror_m = q;
-    }
-    if (fix.mirror_m && hull.distance_outside_m(*fix.mirror_m) <= options.max_outside_hull_m) {
-      const bool decided =
-          options.prior_position_m &&
-          distance(*fix.mirror_m, *options.prior_position_m) >=
-              distance(fix.position_m, *options.prior_position_m) + options.mirror_margin_m;
-      if (!decided) {
-        fix.reason = NoFixReason::kMirrorAmbiguous;
-        return fix;
-      }
-    }
-  }
+  };
+
+  if (!std::isfinite(ranges.speed_of_sound_mps) || ranges.speed_of_sound_mps <= 0)
+    return no_fix(NoFixReason::kNonFiniteInput);
+  const ConvexHull hull(layout);
+  Model model = range_model(layout, hull, ranges, options);
+  if (options.check_triangle)
+    reject_too_long(layout, options, model, prepared, fix.beacons);
+  if (prepared.primaries.size() < 3)
+    return no_fix(prepared.any_non_finite ? NoFixReason::kNonFiniteInput
+                                          : NoFixReason::kTooFewBeacons);
+
+  const std::vector<BeaconCandidates> candidates = beacon_candidates(ranges, prepared, options);
+  Start start = choose_start(layout, model, prepared, candidates, options);
+  if (start.failure != NoFixReason::kNone)
+    return no_fix(start.failure);
+  std::vector<Observation>& used = start.used;
+  const Fitted fitted = fit_dropping_outliers(layout, model, used, start.state, options);
+  const State& state = fitted.fit.state;
+
+  fix.iterations = fitted.iterations;
+  fill_uses(fix, model, used, candidates, state);
+  fix.position_m = state.p;
+  fix.offset_m = state.o;
+  fix.speed_of_sound_mps = ranges.speed_of_sound_mps / state.k;
+  if (fitted.fit.singular || !fitted.covariance)
+    return no_fix(NoFixReason::kDegenerateGeometry);
+  if (!fitted.fit.converged)
+    return no_fix(NoFixReason::kNotConverged);
+  fill_statistics(fix, model, used, state, *fitted.covariance, ranges.speed_of_sound_mps);
+
+  if (!std::isfinite(fix.position_m.x) || !std::isfinite(fix.position_m.y))
+    return no_fix(NoFixReason::kNotConverged);
+  if (!consistent(fix, model, used, candidates, options))
+    return no_fix(NoFixReason::kInconsistent);
+  if (static_cast<int>(used.size()) < options.min_beacons)
+    return no_fix(NoFixReason::kTooFewBeacons);
+  if (hull.distance_outside_m(fix.position_m) > options.max_outside_hull_m)
+    return no_fix(NoFixReason::kOutsideHull);
+  if (used.size() == 3 && !model.calibrate &&
+      mirror_ambiguous(fix, layout, hull, used, state, options))
+    return no_fix(NoFixReason::kMirrorAmbiguous);
   if (used.size() > 3) {
-    if (const std::optional<Vec2> rival = rival_explains(fix, model, rivals, candidates, options)) {
+    if (const std::optional<Vec2> rival =
+            rival_explains(fix, model, start.rivals, candidates, options)) {
       fix.mirror_m = rival;
-      fix.reason = NoFixReason::kAmbiguousBeaconSets;
-      return fix;
+      return no_fix(NoFixReason::kAmbiguousBeaconSets);
     }
   }
   fix.valid = true;
