@@ -572,6 +572,177 @@ double total_weight(const std::vector<Candidate>& candidates, const Average& a) 
   return w;
 }
 
+// The primaries that passed the triangle check.
+std::vector<std::size_t> usable_primaries(const std::vector<Observation>& obs,
+                                          const std::vector<BeaconUse>& uses) {
+  std::vector<std::size_t> valid;
+  for (std::size_t i = 0; i < obs.size(); ++i)
+    if (uses[static_cast<std::size_t>(obs[i].beacon)].status == BeaconStatus::kUsed)
+      valid.push_back(i);
+  return valid;
+}
+
+// Why fewer than `needed` primaries are usable.
+NoFixReason too_few_reason(std::size_t primaries, const std::vector<BeaconUse>& uses,
+                           std::size_t needed) {
+  const auto non_finite = static_cast<std::size_t>(std::ranges::count_if(
+      uses, [](const BeaconUse& u) { return u.status == BeaconStatus::kNonFinite; }));
+  return primaries >= needed                ? NoFixReason::kInconsistent
+         : primaries + non_finite >= needed ? NoFixReason::kNonFiniteInput
+                                            : NoFixReason::kTooFewBeacons;
+}
+
+// Every triple of the usable primaries.
+std::vector<Candidate> all_triples(const std::vector<Observation>& obs,
+                                   const std::vector<std::size_t>& valid) {
+  std::vector<Candidate> candidates;
+  for (std::size_t i = 0; i < valid.size(); ++i)
+    for (std::size_t j = i + 1; j < valid.size(); ++j)
+      for (std::size_t k = j + 1; k < valid.size(); ++k) {
+        Candidate t;
+        t.beacons = {obs[valid[i]].beacon, obs[valid[j]].beacon, obs[valid[k]].beacon};
+        t.obs = {valid[i], valid[j], valid[k]};
+        candidates.push_back(std::move(t));
+      }
+  return candidates;
+}
+
+// Each candidate's DRMS error from its sensitivity (sensitivity_of(triple):
+// nullopt where singular); the candidates with a finite error, least first.
+template <class SensitivityOf>
+std::vector<std::size_t> rank(std::vector<Candidate>& candidates,
+                              const std::vector<Observation>& obs, SensitivityOf&& sensitivity_of) {
+  std::vector<std::size_t> order;
+  for (std::size_t c = 0; c < candidates.size(); ++c) {
+    Candidate& t = candidates[c];
+    const std::optional<TripleSensitivity>& s = sensitivity_of(t.beacons);
+    double variance = kInf;
+    if (s) {
+      variance = 0;
+      for (int k = 0; k < 3; ++k) {
+        const double sd = obs[t.obs[static_cast<std::size_t>(k)]].sd_m;
+        variance += sd * sd * s->col(k).squaredNorm();
+      }
+    }
+    t.error_m = std::sqrt(variance);
+    if (std::isfinite(t.error_m))
+      order.push_back(c);
+  }
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return candidates[a].error_m < candidates[b].error_m;
+  });
+  return order;
+}
+
+// Solves a candidate's triple (eq. 4) once, from the first start asked;
+// counts the iterations and remembers the first failure's reason.
+class TripleSolves {
+ public:
+  TripleSolves(const BeaconLayout& layout, const std::vector<Observation>& obs,
+               const TripleOptions& options, int& iterations)
+      : layout_(layout), obs_(obs), options_(options), iterations_(iterations) {}
+  bool operator()(Candidate& t, Vec2 from) {
+    if (!t.fix) {
+      const std::array<Observation, 3> three{obs_[t.obs[0]], obs_[t.obs[1]], obs_[t.obs[2]]};
+      Fix f = solve_triple(layout_, three, from, options_);
+      iterations_ += f.iterations;
+      if (f.valid) {
+        t.fix = std::move(f);
+      } else {
+        t.failed = true;
+        if (!first_failure_)
+          first_failure_ = f.reason;
+      }
+    }
+    return t.fix.has_value();
+  }
+  [[nodiscard]] NoFixReason failure() const {
+    return first_failure_.value_or(NoFixReason::kDegenerateGeometry);
+  }
+
+ private:
+  const BeaconLayout& layout_;
+  const std::vector<Observation>& obs_;
+  const TripleOptions& options_;
+  int& iterations_;
+  std::optional<NoFixReason> first_failure_;
+};
+
+// Steps 3 and 4. When they end with deviants, the paper's loop has met a
+// bad beacon whose triples outnumber the good ones among the best (it can be
+// in max_uses_per_beacon of averaged_triples): repeat without each usable
+// measurement in turn and keep the consistent average with the most triples
+// (then the most weight), at least min_triples of them (fewer would not show
+// it consistent). Returns the average and the measurement left out, if any.
+template <class Solve>
+std::pair<Average, std::optional<std::size_t>> best_average(std::vector<Candidate>& candidates,
+                                                            const std::vector<std::size_t>& order,
+                                                            std::size_t observations,
+                                                            const std::vector<std::size_t>& valid,
+                                                            const LongsolveOptions& options,
+                                                            Solve&& solve) {
+  Average average = average_triples(candidates, order, observations, {}, options, solve);
+  std::optional<std::size_t> excluded;
+  if (average.consistent)
+    return {std::move(average), excluded};
+  for (const std::size_t o : valid) {
+    Average without = average_triples(candidates, order, observations, o, options, solve);
+    const bool better = without.consistent &&
+                        without.used.size() >= static_cast<std::size_t>(options.min_triples) &&
+                        (!excluded || without.used.size() > average.used.size() ||
+                         (without.used.size() == average.used.size() &&
+                          total_weight(candidates, without) > total_weight(candidates, average)));
+    if (better) {
+      average = std::move(without);
+      excluded = o;
+    }
+  }
+  return {std::move(average), excluded};
+}
+
+// The usable measurements in no averaged triple: rejected (kTripleDeviation)
+// when their triples were dropped as deviating or gave no fix at all (an
+// echo's triples often land outside the room), else unused. Returns which
+// measurements the average rests on.
+std::vector<bool> mark_unaveraged(Fix& fix, const std::vector<Candidate>& candidates,
+                                  const Average& average, std::optional<std::size_t> excluded,
+                                  const std::vector<Observation>& obs,
+                                  const std::vector<std::size_t>& valid) {
+  std::vector<bool> in_average(obs.size(), false);
+  std::vector<bool> in_dropped(obs.size(), false);
+  if (excluded)
+    in_dropped[*excluded] = true;
+  for (std::size_t c = 0; c < candidates.size(); ++c)
+    for (const std::size_t o : candidates[c].obs)
+      in_dropped[o] = in_dropped[o] || average.roles[c] == Role::kDropped || candidates[c].failed;
+  for (const std::size_t c : average.used)
+    for (const std::size_t o : candidates[c].obs)
+      in_average[o] = true;
+  for (const std::size_t o : valid)
+    if (!in_average[o]) {
+      BeaconUse& u = fix.beacons[static_cast<std::size_t>(obs[o].beacon)];
+      u.status = in_dropped[o] ? BeaconStatus::kTripleDeviation : BeaconStatus::kUnused;
+      u.candidate = -1;
+    }
+  return in_average;
+}
+
+// The average as a linear function of the distances: M = sum(w S_t)/sum(w),
+// S_t each triple's sensitivity at its own solution, w = 1 / its error.
+Sensitivity average_sensitivity(const BeaconLayout& layout,
+                                const std::vector<Candidate>& candidates, const Average& average,
+                                std::size_t observations, double min_determinant) {
+  Sensitivity m = Sensitivity::Zero(2, static_cast<Eigen::Index>(observations));
+  for (const std::size_t c : average.used) {
+    const Candidate& t = candidates[c];
+    const TripleSensitivity s =
+        *triple_sensitivity(layout, t.beacons, t.fix->position_m, min_determinant);
+    for (std::size_t k = 0; k < 3; ++k)
+      m.col(static_cast<Eigen::Index>(t.obs[k])) += s.col(static_cast<Eigen::Index>(k)) / t.error_m;
+  }
+  return m / total_weight(candidates, average);
+}
+
 }  // namespace
 
 Fix Longsolve::solve(const BeaconLayout& layout, const RangeSet& ranges) {
@@ -593,76 +764,26 @@ Fix Longsolve::solve_unsettled(const BeaconLayout& layout, const RangeSet& range
   fix.solver = Solver::kLongsolve;
   fix.speed_of_sound_mps = ranges.speed_of_sound_mps;
   fix.beacons = check_triangle_inequality(layout, prepared, options_.triangle);
-
-  std::vector<std::size_t> valid;  // primaries that passed the triangle check
-  for (std::size_t i = 0; i < obs.size(); ++i)
-    if (fix.beacons[static_cast<std::size_t>(obs[i].beacon)].status == BeaconStatus::kUsed)
-      valid.push_back(i);
-  if (valid.size() < static_cast<std::size_t>(options_.min_beacons)) {
-    const auto non_finite = static_cast<std::size_t>(
-        std::count_if(fix.beacons.begin(), fix.beacons.end(),
-                      [](const BeaconUse& u) { return u.status == BeaconStatus::kNonFinite; }));
-    const auto needed = static_cast<std::size_t>(options_.min_beacons);
-    fix.reason = obs.size() >= needed                ? NoFixReason::kInconsistent
-                 : obs.size() + non_finite >= needed ? NoFixReason::kNonFiniteInput
-                                                     : NoFixReason::kTooFewBeacons;
+  const auto no_fix = [&fix](NoFixReason reason) {
+    fix.reason = reason;
     return fix;
-  }
+  };
 
-  std::vector<Candidate> candidates;
-  for (std::size_t i = 0; i < valid.size(); ++i)
-    for (std::size_t j = i + 1; j < valid.size(); ++j)
-      for (std::size_t k = j + 1; k < valid.size(); ++k) {
-        Candidate t;
-        t.beacons = {obs[valid[i]].beacon, obs[valid[j]].beacon, obs[valid[k]].beacon};
-        t.obs = {valid[i], valid[j], valid[k]};
-        candidates.push_back(std::move(t));
-      }
-  // The candidates with a finite error, least error first.
-  std::vector<std::size_t> order;
-  const auto rank = [&] {
-    order.clear();
-    for (std::size_t c = 0; c < candidates.size(); ++c) {
-      Candidate& t = candidates[c];
-      const std::optional<TripleSensitivity>& s = sensitivity(layout, t.beacons);
-      double variance = kInf;
-      if (s) {
-        variance = 0;
-        for (int k = 0; k < 3; ++k) {
-          const double sd = obs[t.obs[static_cast<std::size_t>(k)]].sd_m;
-          variance += sd * sd * s->col(k).squaredNorm();
-        }
-      }
-      t.error_m = std::sqrt(variance);
-      if (std::isfinite(t.error_m))
-        order.push_back(c);
-    }
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-      return candidates[a].error_m < candidates[b].error_m;
-    });
+  const std::vector<std::size_t> valid = usable_primaries(obs, fix.beacons);
+  const auto needed = static_cast<std::size_t>(options_.min_beacons);
+  if (valid.size() < needed)
+    return no_fix(too_few_reason(obs.size(), fix.beacons, needed));
+  std::vector<Candidate> candidates = all_triples(obs, valid);
+  const auto sensitivity_of = [&](const Triple& t) -> const std::optional<TripleSensitivity>& {
+    return sensitivity(layout, t);
   };
-  std::optional<NoFixReason> first_failure;
-  const auto solve_from = [&](Candidate& t, Vec2 from) {
-    if (!t.fix) {
-      const std::array<Observation, 3> three{obs[t.obs[0]], obs[t.obs[1]], obs[t.obs[2]]};
-      Fix f = solve_triple(layout, three, from, options_.triple);
-      fix.iterations += f.iterations;
-      if (f.valid)
-        t.fix = std::move(f);
-      else {
-        t.failed = true;
-        if (!first_failure)
-          first_failure = f.reason;
-      }
-    }
-    return t.fix.has_value();
-  };
+  TripleSolves solve_from(layout, obs, options_.triple, fix.iterations);
 
   // Step 1: the quick solution, from the last least-error triple.
   const Vec2 start = last_fix_.value_or(centroid(layout));
   if (!estimated_at_)
     estimate_at(start);
-  rank();
+  std::vector<std::size_t> order = rank(candidates, obs, sensitivity_of);
   std::optional<Vec2> quick;
   const auto try_quick = [&](Candidate& t) {
     if (!quick && solve_from(t, start))
@@ -673,87 +794,36 @@ Fix Longsolve::solve_unsettled(const BeaconLayout& layout, const RangeSet& range
       try_quick(t);
   for (const std::size_t c : order)
     try_quick(candidates[c]);
-  if (!quick) {
-    fix.reason = first_failure.value_or(NoFixReason::kDegenerateGeometry);
-    return fix;
-  }
+  if (!quick)
+    return no_fix(solve_from.failure());
   // Step 2: re-estimate the errors where the robot is now.
   if (std::hypot(quick->x - estimated_at_->x, quick->y - estimated_at_->y) >
       options_.reestimate_distance_m) {
     estimate_at(*quick);
-    rank();
+    order = rank(candidates, obs, sensitivity_of);
   }
 
-  // Steps 3 and 4. When they end with deviants, the paper's loop has met a
-  // bad beacon whose triples outnumber the good ones among the best (it can
-  // be in max_uses_per_beacon of averaged_triples): repeat without each
-  // beacon in turn and keep the consistent average with the most triples,
-  // at least min_triples of them (fewer would not show it consistent).
-  const auto solve = [&](Candidate& t) { return solve_from(t, *quick); };
-  Average average = average_triples(candidates, order, obs.size(), {}, options_, solve);
-  std::optional<std::size_t> excluded;
-  if (!average.consistent)
-    for (const std::size_t o : valid) {
-      Average without = average_triples(candidates, order, obs.size(), o, options_, solve);
-      const bool better = without.consistent &&
-                          without.used.size() >= static_cast<std::size_t>(options_.min_triples) &&
-                          (!excluded || without.used.size() > average.used.size() ||
-                           (without.used.size() == average.used.size() &&
-                            total_weight(candidates, without) > total_weight(candidates, average)));
-      if (better) {
-        average = std::move(without);
-        excluded = o;
-      }
-    }
-  if (average.used.empty()) {
-    fix.reason = first_failure.value_or(NoFixReason::kDegenerateGeometry);
-    return fix;
-  }
-
-  std::vector<bool> in_average(obs.size(), false);
-  std::vector<bool> in_dropped(obs.size(), false);
-  if (excluded)
-    in_dropped[*excluded] = true;
-  // A measurement whose triples were dropped as deviating, or failed to give
-  // a fix at all (an echo's triples often land outside the room), while it
-  // is in no averaged triple, is rejected.
-  for (std::size_t c = 0; c < candidates.size(); ++c)
-    for (const std::size_t o : candidates[c].obs)
-      in_dropped[o] = in_dropped[o] || average.roles[c] == Role::kDropped || candidates[c].failed;
-  for (const std::size_t c : average.used) {
-    for (const std::size_t o : candidates[c].obs)
-      in_average[o] = true;
+  // Steps 3 and 4.
+  const auto [average, excluded] =
+      best_average(candidates, order, obs.size(), valid, options_,
+                   [&](Candidate& t) { return solve_from(t, *quick); });
+  if (average.used.empty())
+    return no_fix(solve_from.failure());
+  const std::vector<bool> in_average =
+      mark_unaveraged(fix, candidates, average, excluded, obs, valid);
+  for (const std::size_t c : average.used)
     averaged_.push_back(candidates[c].beacons);
-  }
-  for (const std::size_t o : valid)
-    if (!in_average[o]) {
-      BeaconUse& u = fix.beacons[static_cast<std::size_t>(obs[o].beacon)];
-      u.status = in_dropped[o] ? BeaconStatus::kTripleDeviation : BeaconStatus::kUnused;
-      u.candidate = -1;
-    }
   fix.position_m = vec2(average.point);
   // The average must rest on min_beacons measurements: one triple left
   // (three beacons) fits whatever its errors, so the others' disagreement
   // leaves nothing checked.
-  if (!average.consistent || fix.used() < options_.min_beacons) {
-    fix.reason = NoFixReason::kInconsistent;
-    return fix;
-  }
-  if (layout.distance_outside_hull_m(fix.position_m) > options_.triple.max_outside_hull_m) {
-    fix.reason = NoFixReason::kOutsideHull;
-    return fix;
-  }
+  if (!average.consistent || fix.used() < options_.min_beacons)
+    return no_fix(NoFixReason::kInconsistent);
+  if (layout.distance_outside_hull_m(fix.position_m) > options_.triple.max_outside_hull_m)
+    return no_fix(NoFixReason::kOutsideHull);
 
-  // The average as a linear function of the distances: M = sum(w S_t)/sum(w).
-  Sensitivity m = Sensitivity::Zero(2, static_cast<Eigen::Index>(obs.size()));
-  for (const std::size_t c : average.used) {
-    const Candidate& t = candidates[c];
-    const TripleSensitivity s =
-        *triple_sensitivity(layout, t.beacons, t.fix->position_m, options_.triple.min_determinant);
-    for (std::size_t k = 0; k < 3; ++k)
-      m.col(static_cast<Eigen::Index>(t.obs[k])) += s.col(static_cast<Eigen::Index>(k)) / t.error_m;
-  }
-  m /= total_weight(candidates, average);
+  const Sensitivity m =
+      average_sensitivity(layout, candidates, average, obs.size(), options_.triple.min_determinant);
   const std::vector<double> residuals =
       fill_statistics(layout, obs, in_average, m, average.point, fix);
   for (std::size_t i = 0; i < obs.size(); ++i)
@@ -766,8 +836,7 @@ Fix Longsolve::solve_unsettled(const BeaconLayout& layout, const RangeSet& range
     if (too_short(residuals[i], obs[i].sd_m, position_sd, options_.triangle)) {
       fix.covariance_m2.setConstant(kNaN);
       fix.hdop = kNaN;
-      fix.reason = NoFixReason::kInconsistent;
-      return fix;
+      return no_fix(NoFixReason::kInconsistent);
     }
   fix.valid = true;
   fix.reason = NoFixReason::kNone;
