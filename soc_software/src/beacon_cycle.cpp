@@ -530,32 +530,51 @@ bool BeaconCycleDecoder::try_cycle(std::vector<CycleMeasurement>& out) {
   return true;
 }
 
-CycleMeasurement BeaconCycleDecoder::decode_cycle(std::vector<Group>& groups, double anchor,
-                                                  Flags cycle_flags, bool measured) {
+// The cycle's parts: part[k] .. part[k + 1] belongs to beacon k's slot (the
+// first part from where decoding stopped), part[n] .. the cycle's end to the
+// reserved slots; a slot starts one separation (the farthest echo's flight
+// plus the early guard) before its fire time.
+std::vector<double> BeaconCycleDecoder::slot_bounds(double anchor) const {
   const BeaconSchedule& sch = config_.schedule;
   const auto n = static_cast<std::size_t>(sch.beacons);
-  const std::size_t channels = config_.array.receivers.size();
   const double separation = config_.max_range_m / c_ + config_.early_guard_s;
   std::vector<double> part(n + 1);
   part[0] = std::min(consumed_s_, anchor - separation);
   for (std::size_t k = 1; k < n; ++k)
     part[k] = anchor + static_cast<double>(k) * sch.fire_period_s - separation;
-  const double end = cycle_end(anchor);
-  const double reserved_start = anchor + static_cast<double>(n) * sch.fire_period_s;
-  part[n] = sch.reserved_slots > 0 ? reserved_start - separation : end;
-  CycleMeasurement rec = empty_record(anchor, cycle_flags);
-  cycle_flags = rec.flags;  // with kOutOfOrder
-  rec.beacons.resize(n);
+  part[n] = sch.reserved_slots > 0 ? reserved_start(anchor) - separation : cycle_end(anchor);
+  return part;
+}
 
-  // Slots: acceptance bounds, candidates, early rejections.
+double BeaconCycleDecoder::reserved_start(double anchor) const {
+  const BeaconSchedule& sch = config_.schedule;
+  return anchor + static_cast<double>(sch.beacons) * sch.fire_period_s;
+}
+
+// How much earlier than its fire time beacon k's wavefront can arrive: its
+// distance from beacon 0 (the anchor) and the tolerance, or the range limit
+// without a layout.
+std::vector<double> BeaconCycleDecoder::beacon_reach() const {
+  const auto n = static_cast<std::size_t>(config_.schedule.beacons);
+  const auto& pos = config_.beacon_positions;
   std::vector<double> reach;
-  for (std::size_t k = 0; k < n; ++k) {
-    const auto& pos = config_.beacon_positions;
+  for (std::size_t k = 0; k < n; ++k)
     reach.push_back(k == 0        ? 0.0
                     : pos.empty() ? config_.max_range_m
                                   : std::hypot(pos[k].x - pos[0].x, pos[k].y - pos[0].y) +
                                         config_.geometry_tolerance_m);
-  }
+  return reach;
+}
+
+// Each wavefront into its beacon's slot, as a candidate or (before the
+// slot's acceptance bound) rejected; beacon 0's second pulse of the double
+// is not an arrival; the rest into the reserved slots.
+void BeaconCycleDecoder::assign_to_slots(std::vector<Group>& groups, double anchor,
+                                         const std::vector<double>& part,
+                                         const std::vector<double>& reach,
+                                         CycleMeasurement& rec) const {
+  const BeaconSchedule& sch = config_.schedule;
+  const std::size_t n = rec.beacons.size();
   for (std::size_t k = 0; k < n; ++k) {
     BeaconMeasurement& b = rec.beacons[k];
     b.beacon = static_cast<int>(k);
@@ -588,134 +607,140 @@ CycleMeasurement BeaconCycleDecoder::decode_cycle(std::vector<Group>& groups, do
       }
     }
   }
-
+  const double end = cycle_end(anchor);
   for (Group& g : groups) {
     if (g.t0_s < part[n] || g.t0_s >= end)
       continue;
     Arrival& a = rec.reserved.emplace_back(std::move(g.arrival));
-    a.time_s = g.t0_s - reserved_start;
+    a.time_s = g.t0_s - reserved_start(anchor);
     a.distance_m = c_ * a.time_s;
   }
+}
 
-  // Kleeman 4.3: arrivals can only be late. When several beacons have
-  // wavefronts before their bound, beacon 0's arrival (the anchor) is the
-  // late one: keep them, flagged.
-  if (measured) {
-    int early = 0, seen = 0;
-    for (std::size_t k = 1; k < n; ++k) {
-      const BeaconMeasurement& b = rec.beacons[k];
-      if (!b.candidates.empty() || !b.rejected.empty())
-        ++seen;
-      if (std::any_of(b.rejected.begin(), b.rejected.end(), [&](const Arrival& a) {
-            return popcount(a.receivers) >= config_.min_receivers;
-          }))
-        ++early;
-    }
-    // Two beacons, or half of those heard: a genuine tail of the previous
-    // slot is rare (t_fire is chosen so that echoes die out), a late
-    // reference moves every slot.
-    if (early >= 2 || (early >= 1 && 2 * early >= seen)) {
-      cycle_flags.set(Flag::kReferenceSuspect);
-      rec.beacons[0].flags.set(Flag::kEchoSuspect);
-      for (std::size_t k = 0; k < n; ++k) {  // beacon 0's direct pulse may be among them too
-        BeaconMeasurement& b = rec.beacons[k];
-        for (Arrival& a : b.rejected) {
-          a.flags.clear(Flag::kEarlyRejected).set(Flag::kBeforeBound);
-          b.candidates.push_back(std::move(a));
-        }
-        b.rejected.clear();
-        std::stable_sort(b.candidates.begin(), b.candidates.end(),
-                         [](const Arrival& x, const Arrival& y) { return x.time_s < y.time_s; });
-      }
-    }
+// Kleeman 4.3: arrivals can only be late. When several beacons have
+// wavefronts before their bound, beacon 0's arrival (the anchor) is the late
+// one: keep them as candidates, flagged. Two beacons, or half of those
+// heard: a genuine tail of the previous slot is rare (t_fire is chosen so
+// that echoes die out), a late reference moves every slot.
+void BeaconCycleDecoder::check_reference(CycleMeasurement& rec, Flags& cycle_flags) const {
+  const auto heard_by_enough = [&](const Arrival& a) {
+    return popcount(a.receivers) >= config_.min_receivers;
+  };
+  int early = 0, seen = 0;
+  for (std::size_t k = 1; k < rec.beacons.size(); ++k) {
+    const BeaconMeasurement& b = rec.beacons[k];
+    if (!b.candidates.empty() || !b.rejected.empty())
+      ++seen;
+    if (std::ranges::any_of(b.rejected, heard_by_enough))
+      ++early;
   }
-  rec.flags = cycle_flags;
+  if (!(early >= 2 || (early >= 1 && 2 * early >= seen)))
+    return;
+  cycle_flags.set(Flag::kReferenceSuspect);
+  rec.beacons[0].flags.set(Flag::kEchoSuspect);
+  for (BeaconMeasurement& b : rec.beacons) {  // beacon 0's direct pulse may be among them too
+    for (Arrival& a : b.rejected) {
+      a.flags.clear(Flag::kEarlyRejected).set(Flag::kBeforeBound);
+      b.candidates.push_back(std::move(a));
+    }
+    b.rejected.clear();
+    std::stable_sort(b.candidates.begin(), b.candidates.end(),
+                     [](const Arrival& x, const Arrival& y) { return x.time_s < y.time_s; });
+  }
+}
 
-  // Per beacon: primary, flags.
+// Beacon k's flags from the cycle, its slot's incidents and its arrivals,
+// and its primary: the first candidate heard by min_receivers (else the
+// first).
+void BeaconCycleDecoder::classify_beacon(BeaconMeasurement& b, std::size_t k, double from_s,
+                                         double until_s, double reach_m, Flags cycle_flags,
+                                         double anchor, bool measured) {
   const Flags propagated_mask = Flags(Flag::kResynchronised) | Flag::kCoasted |
                                 Flag::kDoublePulseMissing | Flag::kReferenceSuspect |
                                 Flag::kOutOfOrder;
-  for (std::size_t k = 0; k < n; ++k) {
-    BeaconMeasurement& b = rec.beacons[k];
-    Flags& f = b.flags;
-    f |= Flags(cycle_flags.bits() & propagated_mask.bits());
-    for (std::size_t ch = 0; ch < channels; ++ch)
-      f |= incident_flags(part[k], part[k + 1], static_cast<int>(ch));
-    for (const Mark& m : noise_)
-      if (m.time_s >= part[k] && m.time_s < part[k + 1])
-        f.set(Flag::kNoise);
-    for (const Mark& m : saturated_)
-      if (m.time_s >= part[k] && m.time_s < part[k + 1])
-        f.set(Flag::kSaturated).set(Flag::kStuckChannel);
-    if (!b.rejected.empty())
-      f.set(Flag::kEarlyRejected);
-    // A rejected wavefront heard by several receivers may have been the
-    // direct pulse after all, if the anchor was late: the rest is suspect.
-    if (std::any_of(b.rejected.begin(), b.rejected.end(), [&](const Arrival& a) {
-          return popcount(a.receivers) >= config_.min_receivers;
-        }))
-      f.set(Flag::kEchoSuspect);
-    if (b.candidates.empty()) {
-      f.set(Flag::kMissing);
-      continue;
-    }
-    if (b.candidates.size() > 1)
-      f.set(Flag::kEchoes);
-    for (std::size_t i = 0; i < b.candidates.size() && b.primary < 0; ++i)
-      if (popcount(b.candidates[i].receivers) >= config_.min_receivers)
-        b.primary = static_cast<int>(i);
-    if (b.primary < 0)
-      b.primary = 0;
-    Arrival& p = b.candidates[static_cast<std::size_t>(b.primary)];
-    if (p.flags.has(Flag::kSingleReceiver))
-      f.set(Flag::kSingleReceiver);
-    if (p.flags.has(Flag::kDoaInconsistent))
-      f.set(Flag::kDoaInconsistent);
-    if (p.flags.has(Flag::kWeak))
-      f.set(Flag::kWeak);
-    if (p.flags.has(Flag::kMergedPulse))
-      f.set(Flag::kMergedPulse).set(Flag::kEchoSuspect);
-    if (k > 0 && p.distance_m > reach[k] + 3 * p.sd_m) {
-      p.flags.set(Flag::kOutOfRange);
-      f.set(Flag::kEchoSuspect);
-    }
-    for (std::size_t i = static_cast<std::size_t>(b.primary) + 1; i < b.candidates.size(); ++i)
-      if (p.amplitude_ratio < config_.weak_ratio &&
-          b.candidates[i].amplitude_ratio >= config_.occlusion_contrast * p.amplitude_ratio)
-        f.set(Flag::kOccludedSuspect);
-    if (measured) {
-      // Kleeman: arrivals can only be late. d_k - d_0 changes by at most
-      // 2 max_speed per second; a primary later than that is an echo of a
-      // hidden direct path, and stays suspect until it jumps back.
-      Track& t = track_[k];
-      const double slack = config_.geometry_tolerance_m + 3 * p.sd_m;
-      const double speed = 2 * config_.max_speed_mps;
-      if (t.occluded) {
-        const bool back = p.distance_m < t.last_m - speed * (anchor - t.last_anchor_s) - slack;
-        if (back || ++t.occluded_cycles > config_.occlusion_memory_cycles) {
-          t.occluded = false;
-        } else {
-          f.set(Flag::kOccludedSuspect);
-          t.last_m = p.distance_m, t.last_anchor_s = anchor;
-        }
-      } else if (t.valid && p.distance_m > t.distance_m + speed * (anchor - t.anchor_s) + slack) {
-        f.set(Flag::kOccludedSuspect);
-        t.occluded = true;
-        t.occluded_cycles = 1;
-        t.last_m = p.distance_m, t.last_anchor_s = anchor;
-      }
-      if (!f.has(Flag::kOccludedSuspect) && !f.has(Flag::kEchoSuspect) &&
-          !f.has(Flag::kSingleReceiver)) {
-        t.valid = true;
-        t.distance_m = p.distance_m, t.anchor_s = anchor;
-      }
-    }
+  Flags& f = b.flags;
+  f |= Flags(cycle_flags.bits() & propagated_mask.bits());
+  for (std::size_t ch = 0; ch < config_.array.receivers.size(); ++ch)
+    f |= incident_flags(from_s, until_s, static_cast<int>(ch));
+  for (const Mark& m : noise_)
+    if (m.time_s >= from_s && m.time_s < until_s)
+      f.set(Flag::kNoise);
+  for (const Mark& m : saturated_)
+    if (m.time_s >= from_s && m.time_s < until_s)
+      f.set(Flag::kSaturated).set(Flag::kStuckChannel);
+  if (!b.rejected.empty())
+    f.set(Flag::kEarlyRejected);
+  // A rejected wavefront heard by several receivers may have been the
+  // direct pulse after all, if the anchor was late: the rest is suspect.
+  if (std::ranges::any_of(b.rejected, [&](const Arrival& a) {
+        return popcount(a.receivers) >= config_.min_receivers;
+      }))
+    f.set(Flag::kEchoSuspect);
+  if (b.candidates.empty()) {
+    f.set(Flag::kMissing);
+    return;
   }
+  if (b.candidates.size() > 1)
+    f.set(Flag::kEchoes);
+  for (std::size_t i = 0; i < b.candidates.size() && b.primary < 0; ++i)
+    if (popcount(b.candidates[i].receivers) >= config_.min_receivers)
+      b.primary = static_cast<int>(i);
+  if (b.primary < 0)
+    b.primary = 0;
+  Arrival& p = b.candidates[static_cast<std::size_t>(b.primary)];
+  for (const Flag carried :
+       {Flag::kSingleReceiver, Flag::kDoaInconsistent, Flag::kWeak, Flag::kMergedPulse})
+    if (p.flags.has(carried))
+      f.set(carried);
+  if (p.flags.has(Flag::kMergedPulse))
+    f.set(Flag::kEchoSuspect);
+  if (k > 0 && p.distance_m > reach_m + 3 * p.sd_m) {
+    p.flags.set(Flag::kOutOfRange);
+    f.set(Flag::kEchoSuspect);
+  }
+  for (std::size_t i = static_cast<std::size_t>(b.primary) + 1; i < b.candidates.size(); ++i)
+    if (p.amplitude_ratio < config_.weak_ratio &&
+        b.candidates[i].amplitude_ratio >= config_.occlusion_contrast * p.amplitude_ratio)
+      f.set(Flag::kOccludedSuspect);
+  if (measured)
+    track_occlusion(k, p, f, anchor);
+}
 
-  // Channels: use, noise, stuck, silence.
+// Kleeman: arrivals can only be late. d_k - d_0 changes by at most
+// 2 max_speed per second; a primary later than that is an echo of a hidden
+// direct path, and stays suspect until it jumps back.
+void BeaconCycleDecoder::track_occlusion(std::size_t k, const Arrival& p, Flags& f, double anchor) {
+  Track& t = track_[k];
+  const double slack = config_.geometry_tolerance_m + 3 * p.sd_m;
+  const double speed = 2 * config_.max_speed_mps;
+  if (t.occluded) {
+    const bool back = p.distance_m < t.last_m - speed * (anchor - t.last_anchor_s) - slack;
+    if (back || ++t.occluded_cycles > config_.occlusion_memory_cycles) {
+      t.occluded = false;
+    } else {
+      f.set(Flag::kOccludedSuspect);
+      t.last_m = p.distance_m, t.last_anchor_s = anchor;
+    }
+  } else if (t.valid && p.distance_m > t.distance_m + speed * (anchor - t.anchor_s) + slack) {
+    f.set(Flag::kOccludedSuspect);
+    t.occluded = true;
+    t.occluded_cycles = 1;
+    t.last_m = p.distance_m, t.last_anchor_s = anchor;
+  }
+  if (!f.has(Flag::kOccludedSuspect) && !f.has(Flag::kEchoSuspect) &&
+      !f.has(Flag::kSingleReceiver)) {
+    t.valid = true;
+    t.distance_m = p.distance_m, t.anchor_s = anchor;
+  }
+}
+
+// Channels: use, noise, stuck; silent where a strong direct arrival came
+// from within its receiver's expected angle and it heard nothing.
+void BeaconCycleDecoder::channel_status(CycleMeasurement& rec, double from_s, double end) const {
+  const std::size_t channels = config_.array.receivers.size();
   for (std::size_t ch = 0; ch < channels; ++ch) {
     ChannelStatus& s = rec.channels[ch];
-    s.flags = incident_flags(part[0], end, static_cast<int>(ch));
+    s.flags = incident_flags(from_s, end, static_cast<int>(ch));
     s.stuck = s.flags.has(Flag::kStuckChannel);
     for (const Mark& m : saturated_)
       if (m.channel == static_cast<int>(ch) && m.time_s < end)
@@ -747,6 +772,24 @@ CycleMeasurement BeaconCycleDecoder::decode_cycle(std::vector<Group>& groups, do
       b.flags.set(Flag::kDeadChannel);
     }
   }
+}
+
+CycleMeasurement BeaconCycleDecoder::decode_cycle(std::vector<Group>& groups, double anchor,
+                                                  Flags cycle_flags, bool measured) {
+  const auto n = static_cast<std::size_t>(config_.schedule.beacons);
+  const std::vector<double> part = slot_bounds(anchor);
+  const std::vector<double> reach = beacon_reach();
+  CycleMeasurement rec = empty_record(anchor, cycle_flags);
+  cycle_flags = rec.flags;  // with kOutOfOrder
+  rec.beacons.resize(n);
+  assign_to_slots(groups, anchor, part, reach, rec);
+  if (measured)
+    check_reference(rec, cycle_flags);
+  rec.flags = cycle_flags;
+  for (std::size_t k = 0; k < n; ++k)
+    classify_beacon(rec.beacons[k], k, part[k], part[k + 1], reach[k], cycle_flags, anchor,
+                    measured);
+  channel_status(rec, part[0], cycle_end(anchor));
   return rec;
 }
 

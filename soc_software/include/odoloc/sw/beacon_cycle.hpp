@@ -181,8 +181,19 @@ class BeaconCycleDecoder {
                                          double until_s) const;
   bool try_lock();
   bool try_cycle(std::vector<CycleMeasurement>& out);
+  // One cycle's record from its wavefronts, in named steps.
   CycleMeasurement decode_cycle(std::vector<Group>& groups, double anchor, Flags cycle_flags,
                                 bool measured);
+  [[nodiscard]] std::vector<double> slot_bounds(double anchor) const;
+  [[nodiscard]] double reserved_start(double anchor) const;
+  [[nodiscard]] std::vector<double> beacon_reach() const;
+  void assign_to_slots(std::vector<Group>& groups, double anchor, const std::vector<double>& part,
+                       const std::vector<double>& reach, CycleMeasurement& rec) const;
+  void check_reference(CycleMeasurement& rec, Flags& cycle_flags) const;
+  void classify_beacon(BeaconMeasurement& b, std::size_t k, double from_s, double until_s,
+                       double reach_m, Flags cycle_flags, double anchor, bool measured);
+  void track_occlusion(std::size_t k, const Arrival& p, Flags& f, double anchor);
+  void channel_status(CycleMeasurement& rec, double from_s, double end) const;
   CycleMeasurement empty_record(double anchor, Flags flags);
   [[nodiscard]] Flags incident_flags(double from_s, double until_s, int channel) const;
   void drop_before(double t_s);
