@@ -16,6 +16,8 @@
 #                       generated odoloc_lcm/, odoloc/process/, odoloc/output/
 #                       and odoloc/plot/ only: it reads logs, it knows nothing of the model
 #   host_tools/sim/     never odoloc/cli/ (the host tool's `sim` sits on it)
+#   host_tools/verification/  never odoloc/hls_export/, odoloc/cli/: the kernels'
+#                       references and stimulus are verification, the exporter uses them
 #   host_tools/bridge/  never odoloc/rtl/, odoloc/world/, odoloc/board/, odoloc/cli/: the
 #                       register bridge knows LCM, sw::RegisterBus and the register map
 #   hls/include, hls/src  the standard library, odoloc/hls/, the blocks' logic
@@ -139,6 +141,9 @@ check_layer(host_tools/plot
                             "^odoloc/output/"
                             "^lcm/" "^fmt/" "^(stdlib|unistd)\\.h$")
 check_layer(host_tools/sim "the simulator never includes the host tool" DENY "^odoloc/cli/")
+check_layer(host_tools/verification
+            "the kernels' verification never includes the exporter or the host tool"
+            DENY "^odoloc/hls_export/" "^odoloc/cli/")
 check_layer(host_tools/bridge
             "the register bridge never includes the model, the world, the board or the tool"
             DENY "^odoloc/rtl/" "^odoloc/world/" "^odoloc/board/" "^odoloc/cli/")

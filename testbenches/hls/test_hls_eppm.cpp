@@ -1,6 +1,6 @@
 // The EPPM kernel (hls/eppm_kernel.hpp) against the cycle model (rtl::Eppm),
 // compiled once per type family:
-// - under the reference's seeded stimulus (host_tools/hls_export/src/
+// - under the reference's seeded stimulus (host_tools/verification/src/
 //   eppm_reference.cpp) every output equals the model's after every call
 //   (1e6 calls; 1e8 in hls_long), and every register (synchroniser, filter
 //   counters, the decoder's previous level, timebase, pulse accumulator,
@@ -35,7 +35,7 @@
 
 #include "hls_kernel_check.hpp"
 #include "odoloc/hls/eppm_kernel.hpp"
-#include "odoloc/hls_export/reference.hpp"
+#include "odoloc/hls_export/kernels.hpp"
 #include "odoloc/rtl/eppm.hpp"
 
 namespace {
@@ -172,7 +172,7 @@ class Stimulus {
   }
 
  private:
-  std::unique_ptr<odoloc::hls_export::Reference> reference_;
+  std::unique_ptr<odoloc::verification::Reference> reference_;
   std::vector<std::int64_t> row_, out_;
 };
 

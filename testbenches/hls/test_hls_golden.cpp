@@ -15,7 +15,7 @@
 
 #include "golden_testbench.hpp"
 #include "odoloc/hls/cordic_kernel.hpp"
-#include "odoloc/hls_export/reference.hpp"
+#include "odoloc/hls_export/kernels.hpp"
 #include "text_mutation.hpp"
 
 namespace {

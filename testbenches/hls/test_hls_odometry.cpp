@@ -23,7 +23,7 @@
 
 #include "hls_kernel_check.hpp"
 #include "odoloc/hls/odometry_kernel.hpp"
-#include "odoloc/hls_export/reference.hpp"
+#include "odoloc/hls_export/kernels.hpp"
 #include "odoloc/rtl/cordic.hpp"
 #include "odoloc/rtl/odometry_fabric.hpp"
 

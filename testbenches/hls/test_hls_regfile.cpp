@@ -1,7 +1,7 @@
 // The SPI register file kernel (hls/regfile_kernel.hpp) against the cycle
 // model (rtl::SpiSlave + rtl::FabricRegisters driven at pin level), compiled
 // once per type family:
-// - under the reference's seeded stimulus (host_tools/hls_export/src/
+// - under the reference's seeded stimulus (host_tools/verification/src/
 //   regfile_reference.cpp: reads, writes and bursts everywhere, refused
 //   writes, w1c/w1p strobes, rc and rpop reads, cut, long, too fast and
 //   CRC-corrupted frames, resets) every output of every transaction equals

@@ -1,6 +1,6 @@
 // The TOF capture kernel (hls/tof_kernel.hpp) against the cycle model
 // (rtl::TofCapture<>, the chip's unit), compiled once per type family:
-// - under the reference's seeded stimulus (host_tools/hls_export/src/
+// - under the reference's seeded stimulus (host_tools/verification/src/
 //   tof_reference.cpp) every output equals the model's after every call, and
 //   every register (the filter's counters, the prescaler, the FIFO slots
 //   beyond the register window, the snapshot levels ...) equals the model's;
@@ -28,7 +28,7 @@
 
 #include "hls_kernel_check.hpp"
 #include "odoloc/hls/tof_kernel.hpp"
-#include "odoloc/hls_export/reference.hpp"
+#include "odoloc/hls_export/kernels.hpp"
 #include "odoloc/ports.hpp"
 #include "odoloc/rtl/tof_capture.hpp"
 
@@ -212,7 +212,7 @@ class Stimulus {
   }
 
  private:
-  std::unique_ptr<odoloc::hls_export::Reference> reference_;
+  std::unique_ptr<odoloc::verification::Reference> reference_;
   std::vector<std::int64_t> row_, outputs_;
 };
 

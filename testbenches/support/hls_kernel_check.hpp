@@ -1,7 +1,7 @@
-// A kernel against its cycle-model reference (host_tools/hls_export), call by
-// call: the same seeded stimulus goes into the model and, through the
-// kernel's field lists (visit_fields), into the kernel; every output of every
-// call must be equal. Used by test_hls_<kernel>_<family>, once per type family.
+// A kernel against its cycle-model reference (host_tools/verification, found through the kernel
+// table of host_tools/hls_export), call by call: the same seeded stimulus goes into the model and,
+// through the kernel's field lists (visit_fields), into the kernel; every output of every call must
+// be equal. Used by test_hls_<kernel>_<family>, once per type family.
 //
 // The number of calls is ODOLOC_HLS_CALLS when set (the hls_long tests set
 // 1e8), else the default given, scaled by ODOLOC_TEST_SCALE.
@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "odoloc/hls/types.hpp"
-#include "odoloc/hls_export/reference.hpp"
+#include "odoloc/hls_export/kernels.hpp"
 #include "test_scale.hpp"
 
 namespace odoloc::tb {

@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "export_hls_support.hpp"
-#include "odoloc/hls_export/reference.hpp"
+#include "odoloc/hls_export/kernels.hpp"
 #include "odoloc/process/run_program.hpp"
 #include "scratch_files.hpp"
 

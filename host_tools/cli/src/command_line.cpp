@@ -18,7 +18,7 @@
 #include "odoloc/cli/format.hpp"
 #include "odoloc/cli/locate_input.hpp"
 #include "odoloc/cli/values.hpp"
-#include "odoloc/hls_export/reference.hpp"
+#include "odoloc/hls_export/kernels.hpp"
 
 namespace odoloc::cli {
 namespace {

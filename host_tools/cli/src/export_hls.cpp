@@ -7,7 +7,7 @@
 
 #include "odoloc/cli/errors.hpp"
 #include "odoloc/cli/format.hpp"
-#include "odoloc/hls_export/reference.hpp"
+#include "odoloc/hls_export/kernels.hpp"
 #include "odoloc/output/printable.hpp"
 
 namespace odoloc::cli {

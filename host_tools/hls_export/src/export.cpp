@@ -14,7 +14,7 @@
 #include <system_error>
 
 #include "odoloc/hls_export/embedded.hpp"
-#include "odoloc/hls_export/reference.hpp"
+#include "odoloc/hls_export/kernels.hpp"
 #include "odoloc/process/run_program.hpp"
 
 namespace odoloc::hls_export {

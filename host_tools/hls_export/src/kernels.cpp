@@ -1,8 +1,7 @@
+#include "odoloc/hls_export/kernels.hpp"
+
 #include <algorithm>
 #include <array>
-
-#include "odoloc/hls_export/reference.hpp"
-#include "references.hpp"
 
 namespace odoloc::hls_export {
 
@@ -17,7 +16,7 @@ constexpr std::array kKernels{
                       .summary = "sequential rotation-mode CORDIC, 16 iterations, sin/cos of a "
                                  "16-bit binary angle",
                       .golden_calls = 20000,
-                      .make_reference = make_cordic_reference},
+                      .make_reference = verification::make_cordic_reference},
     KernelDescription{.name = "tof",
                       .top = "odoloc_tof",
                       .header = "odoloc/hls/tof_kernel.hpp",
@@ -27,7 +26,7 @@ constexpr std::array kKernels{
                       .summary = "ultrasonic time-of-flight capture unit: 8 comparator channels "
                                  "and a sync input, timestamps into 16-entry event FIFOs",
                       .golden_calls = 5000,  // 404 columns: 4.4 MB
-                      .make_reference = make_tof_reference},
+                      .make_reference = verification::make_tof_reference},
     KernelDescription{.name = "odometry",
                       .top = "odoloc_odometry",
                       .header = "odoloc/hls/odometry_kernel.hpp",
@@ -37,7 +36,7 @@ constexpr std::array kKernels{
                       .summary = "odometry datapath: sequencer, shared CORDIC, rear and front "
                                  "units, min-select, pose integrator and report",
                       .golden_calls = 20000,
-                      .make_reference = make_odometry_reference},
+                      .make_reference = verification::make_odometry_reference},
     KernelDescription{.name = "regfile",
                       .top = "odoloc_regfile",
                       .header = "odoloc/hls/regfile_kernel.hpp",
@@ -47,7 +46,7 @@ constexpr std::array kKernels{
                       .summary = "SPI register file: configuration words, status reads with "
                                  "snapshot, w1c/w1p strobes, rc and rpop, frame checks",
                       .golden_calls = 5000,
-                      .make_reference = make_regfile_reference},
+                      .make_reference = verification::make_regfile_reference},
     KernelDescription{.name = "eppm",
                       .top = "odoloc_eppm",
                       .header = "odoloc/hls/eppm_kernel.hpp",
@@ -58,7 +57,7 @@ constexpr std::array kKernels{
                                  "quadrature decoder, 20-bit position counter, pulse and period "
                                  "speed meters",
                       .golden_calls = 20000,
-                      .make_reference = make_eppm_reference},
+                      .make_reference = verification::make_eppm_reference},
 };
 }  // namespace
 

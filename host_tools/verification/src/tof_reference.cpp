@@ -57,9 +57,9 @@
 
 #include "odoloc/ports.hpp"
 #include "odoloc/rtl/tof_capture.hpp"
-#include "references.hpp"
+#include "odoloc/verification/reference.hpp"
 
-namespace odoloc::hls_export {
+namespace odoloc::verification {
 
 namespace {
 
@@ -565,4 +565,4 @@ std::unique_ptr<Reference> make_tof_reference(std::uint64_t seed) {
   return std::make_unique<TofReference>(seed);
 }
 
-}  // namespace odoloc::hls_export
+}  // namespace odoloc::verification

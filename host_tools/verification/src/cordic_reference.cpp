@@ -6,9 +6,9 @@
 #include <random>
 
 #include "odoloc/rtl/cordic.hpp"
-#include "references.hpp"
+#include "odoloc/verification/reference.hpp"
 
-namespace odoloc::hls_export {
+namespace odoloc::verification {
 
 namespace {
 
@@ -57,4 +57,4 @@ std::unique_ptr<Reference> make_cordic_reference(std::uint64_t seed) {
   return std::make_unique<CordicReference>(seed);
 }
 
-}  // namespace odoloc::hls_export
+}  // namespace odoloc::verification

@@ -59,9 +59,9 @@
 #include <vector>
 
 #include "odoloc/rtl/eppm.hpp"
-#include "references.hpp"
+#include "odoloc/verification/reference.hpp"
 
-namespace odoloc::hls_export {
+namespace odoloc::verification {
 
 namespace {
 
@@ -671,4 +671,4 @@ std::unique_ptr<Reference> make_eppm_reference(std::uint64_t seed) {
   return std::make_unique<EppmReference>(seed);
 }
 
-}  // namespace odoloc::hls_export
+}  // namespace odoloc::verification

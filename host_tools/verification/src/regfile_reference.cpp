@@ -43,9 +43,9 @@
 #include "odoloc/regs.hpp"
 #include "odoloc/rtl/fabric_registers.hpp"
 #include "odoloc/rtl/spi_slave.hpp"
-#include "references.hpp"
+#include "odoloc/verification/reference.hpp"
 
-namespace odoloc::hls_export {
+namespace odoloc::verification {
 
 namespace {
 
@@ -535,4 +535,4 @@ std::unique_ptr<Reference> make_regfile_reference(std::uint64_t seed) {
   return std::make_unique<RegfileReference>(seed);
 }
 
-}  // namespace odoloc::hls_export
+}  // namespace odoloc::verification

@@ -36,9 +36,9 @@
 
 #include "odoloc/rtl/encoder_fabric.hpp"  // the encoders' names and count format
 #include "odoloc/rtl/odometry.hpp"
-#include "references.hpp"
+#include "odoloc/verification/reference.hpp"
 
-namespace odoloc::hls_export {
+namespace odoloc::verification {
 
 namespace {
 
@@ -422,4 +422,4 @@ std::unique_ptr<Reference> make_odometry_reference(std::uint64_t seed) {
   return std::make_unique<OdometryReference>(seed);
 }
 
-}  // namespace odoloc::hls_export
+}  // namespace odoloc::verification
