@@ -62,13 +62,10 @@ void check_invariants(const ChipLink& link) {
             "position flags set");
     require(e.decoder().error_count.is_zero(), "error count moved");
   }
-  const auto& stored = link.chip().registers().regs().stored;
-  for (const regs::Register& r : regs::kRegisters) {
-    const auto slot = odoloc::rtl::regfile::kStoredSlot[r.address];
-    if (slot >= 0)
-      require((stored[static_cast<std::size_t>(slot)].value() & ~std::uint64_t{r.rw_mask}) == 0,
-              "a stored word holds a non-writable bit");
-  }
+  for (const regs::Register& r : regs::kRegisters)
+    require(
+        (link.chip().registers().stored_word(r.address).value() & ~std::uint64_t{r.rw_mask}) == 0,
+        "a stored word holds a non-writable bit");
 }
 
 // Back to a known framing, then a write and a read at a legal speed.

@@ -144,15 +144,7 @@ void walk(K& k, M& m, F&& f) {
 
 // The first register in which kernel and model differ, or "".
 std::string first_difference(const he::Registers& kernel, const ModelRegs& model) {
-  std::string first;
-  walk(kernel, model, [&](const char* name, const auto& kf, const auto& mf) {
-    const long long got = to_s64(kf);
-    const auto want = static_cast<long long>(mf.value());
-    if (first.empty() && got != want)
-      first =
-          std::string(name) + ": kernel " + std::to_string(got) + ", model " + std::to_string(want);
-  });
-  return first;
+  return odoloc::tb::first_difference([&](const auto& f) { walk(kernel, model, f); });
 }
 
 // The reference's stimulus, one call's inputs at a time, as kernel ports.

@@ -478,8 +478,8 @@ TEST(OdolocChip, GatedAndUngatedChipsAgree) {
       return;
     // The status words once per clock, not once per register (the read
     // itself is what is compared).
-    const auto chip_status = chip.fabric().status(chip.config());
-    const auto full_status = full.fabric().status(full.config());
+    const odoloc::rtl::EncodedStatus chip_status{chip.fabric().status(chip.config())};
+    const odoloc::rtl::EncodedStatus full_status{full.fabric().status(full.config())};
     for (const regs::Register& r : regs::kRegisters) {
       const auto a = UInt<10>::truncate(r.address);
       if (chip.registers().read(a, chip_status) != full.registers().read(a, full_status)) {

@@ -81,7 +81,7 @@ struct Bench {
         if (a >= kReadOnlyFirst)
           refuse = true;
         else
-          mem[a] = static_cast<std::uint32_t>(r.words[k].value());
+          mem[a] = static_cast<std::uint32_t>(r.words[k].value.value());
       }
     }
     // Activity gating: the gated slave and an ungated twin agree every clock.

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "odoloc/logic/register_file.hpp"
 #include "odoloc/rtl/odoloc_chip.hpp"
 #include "odoloc/rtl/vcd.hpp"
 #include "register_dump.hpp"
@@ -164,11 +165,14 @@ TEST(TraceFields, ChipWaveformDeclaresEveryRegister) {
   const auto has = [&](const std::string& name) {
     return std::find(dump.names.begin(), dump.names.end(), name) != dump.names.end();
   };
-  EXPECT_TRUE(has("spi.buffer.words.31"));
+  // (A struct per word, as in the logic: `= {}` leaves ap_int elements undefined.)
+  EXPECT_TRUE(has("spi.buffer.words.31.value"));
   EXPECT_TRUE(has("spi.engine.frame_end"));
-  EXPECT_TRUE(has("registers.stored.0"));
-  EXPECT_TRUE(has("registers.snapshot.0"));
-  EXPECT_TRUE(has("registers.pulses.odometry.command.set_pose"));
+  EXPECT_TRUE(has("registers.stored.word.0.value"));
+  EXPECT_TRUE(has("registers.snapshot.0.value"));
+  EXPECT_TRUE(
+      has("registers.pulse." + std::to_string(odoloc::logic::regfile::kPulseWords - 1) + ".value"));
+  EXPECT_TRUE(has("registers.pops.0.value"));
   EXPECT_TRUE(has("fabric.report.steer_position"));
 }
 

@@ -83,4 +83,20 @@ KernelCheck check_kernel(std::string_view kernel_name, std::uint64_t seed, std::
   return result;
 }
 
+// The first register in which a kernel and its model differ, or "":
+// walk(f) calls f(name, kernel register, model register) for every register
+// (a kernel integer of any family, a model UInt or SInt).
+template <class Walk>
+std::string first_difference(Walk&& walk) {
+  std::string first;
+  walk([&](const char* name, const auto& kernel, const auto& model) {
+    const long long got = hls::to_s64(kernel);
+    const auto want = static_cast<long long>(model.value());
+    if (first.empty() && got != want)
+      first =
+          std::string(name) + ": kernel " + std::to_string(got) + ", model " + std::to_string(want);
+  });
+  return first;
+}
+
 }  // namespace odoloc::tb

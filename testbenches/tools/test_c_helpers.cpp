@@ -473,7 +473,7 @@ struct SlaveBench {
                          static_cast<unsigned>(r.commit_count.value())});
       for (unsigned k = 0; r.commit_write && k < r.commit_count.value(); ++k)
         mem[(r.commit_address.value() + k) % mem.size()] =
-            static_cast<std::uint32_t>(r.words[k].value());
+            static_cast<std::uint32_t>(r.words[k].value.value());
     }
     slave.step({.sclk = sclk,
                 .cs_n = cs_n,

@@ -14,7 +14,7 @@
 #include <sstream>
 #include <string>
 
-#include "odoloc/hls/regfile_map.hpp"
+#include "odoloc/logic/regfile_map.hpp"
 #include "odoloc/ports.hpp"
 #include "odoloc/regmap/regmap.hpp"
 #include "odoloc/regs.hpp"
@@ -247,11 +247,11 @@ TEST(RegisterMap, CHeaderAgreesWithTheCppHeader) {
   }
 }
 
-// The HLS kernels' C++14 map (odoloc/hls/regfile_map.hpp) holds the same
+// The HLS kernels' C++14 map (odoloc/logic/regfile_map.hpp) holds the same
 // registers, masks, resets, FIFOs and SPI facts as odoloc/regs.hpp; its
 // hw_mask is every field the hardware drives.
 TEST(RegisterMap, HlsMapAgreesWithTheCppHeader) {
-  namespace hm = odoloc::hls::regfile_map;
+  namespace hm = odoloc::logic::regfile_map;
   ASSERT_EQ(static_cast<std::size_t>(hm::kRegisterCount), std::size(regs::kRegisters));
   for (std::size_t i = 0; i < std::size(regs::kRegisters); ++i) {
     const regs::Register& r = regs::kRegisters[i];

@@ -143,7 +143,7 @@ void check_outputs(const std::string& name, const rm::RegisterMap& map) {
   write_file(inc / "odoloc/regs.hpp", rm::emit_cpp(map));
   write_file(inc / "odoloc/ports.hpp", rm::emit_ports(map));
   write_file(inc / "odoloc/logic/ports.hpp", rm::emit_logic_ports(map));
-  write_file(inc / "odoloc/hls/regfile_map.hpp", rm::emit_hls(map));
+  write_file(inc / "odoloc/logic/regfile_map.hpp", rm::emit_hls(map));
   write_file(inc / "odoloc_regs.h", rm::emit_c(map));
   write_file(dir.path / "map.rdl", rm::emit_systemrdl(map));
   const std::string md = rm::emit_markdown(map);
@@ -226,8 +226,8 @@ void check_outputs(const std::string& name, const rm::RegisterMap& map) {
 
   // The HLS kernels' map: ISO C++14, every table read.
   write_file(dir.path / "use_hls.cpp",
-             "#include \"odoloc/hls/regfile_map.hpp\"\n"
-             "namespace m = odoloc::hls::regfile_map;\n"
+             "#include \"odoloc/logic/regfile_map.hpp\"\n"
+             "namespace m = odoloc::logic::regfile_map;\n"
              "int main() {\n  unsigned n = 0;\n"
              "  for (int i = 0; i < m::kRegisterCount; ++i)\n"
              "    n += m::kRegisters[i].rw_mask + (m::kRegisterNames[i][0] != '\\0' ? 1U : 0U);\n"

@@ -1,18 +1,18 @@
 // The whole FPGA: the odometry fabric, the ultrasonic time-of-flight capture
-// unit, the register file and the SPI slave on one 50 MHz clock. Pins in,
-// MISO out; the only door is SPI (docs/spi.md).
+// unit and the register interface (the SPI slave and the register file) on
+// one 50 MHz clock. Pins in, MISO out; the only door is SPI (docs/spi.md).
 #pragma once
 
 #include <array>
 
-#include "odoloc/rtl/fabric_registers.hpp"
 #include "odoloc/rtl/odometry_fabric.hpp"
-#include "odoloc/rtl/spi_slave.hpp"
+#include "odoloc/rtl/register_interface.hpp"
 #include "odoloc/rtl/tof_capture.hpp"
 
 namespace odoloc::rtl {
 
 using ChipTofCapture = TofCapture<>;  // every channel of the register map, 16-entry FIFOs
+using ChipRegisterInterface = RegisterInterface<>;  // the fabric's status as typed ports
 static_assert(ChipTofCapture::kDepth == regs::tof::info::fifo_depth.reset &&
                   ChipTofCapture::kChannels == regs::tof::info::channels.reset,
               "tof.info's reset documents the chip's build");
@@ -37,20 +37,17 @@ class OdolocChip {
   struct Wires {
     OdometryFabric::In fabric;
     ChipTofCapture::In tof;
-    SpiSlave::In spi;
-    FabricRegisters::In registers;
+    ChipRegisterInterface::In interface;
+    EncodedStatus status;  // the fabric's, for the register interface
   };
   [[nodiscard]] Wires wires(const In& pins) const {
-    const SpiRegisterPort port = spi_.port();
     // The fabric's status is needed only by a snapshot or a read.
-    ports::Status status;
-    if (port.snapshot | port.read_strobe) {
-      status = fabric_.status(config_);
-      tof_.status(status);
+    EncodedStatus status;
+    if (interface_.samples_status()) {
+      status.status = fabric_.status(config());
+      tof_.status(status.status);
     }
-    const UInt<32> read_data =
-        port.read_strobe ? registers_.read(port.read_address, status) : UInt<32>{};
-    const ports::Pulses& pulses = registers_.regs().pulses;
+    const ports::Pulses& pulses = interface_.pulses();
     return {
         .fabric = {.pins = pins.encoders,
                    .eppm = pulses.eppm,
@@ -60,18 +57,11 @@ class OdolocChip {
                 .sync = pins.tof_sync,
                 .tof = pulses.tof,
                 .channel = pulses.tof_channel,
-                .snapshot = port.snapshot,
+                .snapshot = interface_.snapshot(),
                 .clear_all = pulses.odometry.command.clear_flags,
                 .reset = pins.reset},
-        .spi = {.sclk = pins.sclk,
-                .cs_n = pins.cs_n,
-                .mosi = pins.mosi,
-                .crc_enable = config_.top.ctrl.crc_enable,
-                .spi_mode3 = config_.top.ctrl.spi_mode3,
-                .read_data = read_data,
-                .write_refused = FabricRegisters::write_refused(port),
-                .reset = pins.reset},
-        .registers = {.spi = port, .read_data = read_data, .status = status, .reset = pins.reset},
+        .interface = interface_pins(pins),
+        .status = status,
     };
   }
 
@@ -80,12 +70,12 @@ class OdolocChip {
     record_pins(pins);
     // No SPI strobe and no pulse pending (the common case): the register
     // file is idle, the fabric's strobes are all 0 and the slave reads nothing.
-    if (G == Gating::kOn && registers_.quiet(spi_.strobing(), pins.reset)) {
+    if (G == Gating::kOn && interface_.quiet(pins.reset)) {
       set_sensor_pins(idle_fabric_in_, idle_tof_in_, pins);
-      const SpiSlave::In spi_in = quiet_spi_in(pins);
-      order([&] { fabric_.step<G>(idle_fabric_in_, config_, order); },
-            [&] { tof_.step_pins<G>(idle_tof_in_, config_, order); },
-            [&] { spi_.step<G>(spi_in, order); });
+      const ChipRegisterInterface::In bus = interface_pins(pins);
+      order([&] { fabric_.step<G>(idle_fabric_in_, config(), order); },
+            [&] { tof_.step_pins<G>(idle_tof_in_, config(), order); },
+            [&] { interface_.step_quiet<G>(bus, order); });
       return;
     }
     step_all<G>(pins, order);
@@ -97,7 +87,7 @@ class OdolocChip {
   // period ends. In between, the capture unit and the fabric's EPPMs share
   // no signal with anything, so each advances on its own through its events.
   [[nodiscard]] std::uint64_t clocks_until_event(const In& pins) const {
-    if (!bus_quiet(pins) || !spi_.idle(quiet_spi_in(pins)))
+    if (interface_.clocks_until_event(interface_pins(pins)) == 0)
       return 0;
     return sensor_clocks_until_event();
   }
@@ -116,8 +106,8 @@ class OdolocChip {
   void skip(std::uint64_t n, const In& pins, Runs&& runs) {
     record_sensor_pins(pins);
     set_sensor_pins(idle_fabric_in_, idle_tof_in_, pins);
-    const auto last = fabric_.skip(n, idle_fabric_in_, config_, runs);
-    tof_.advance(n, idle_tof_in_, config_);
+    const auto last = fabric_.skip(n, idle_fabric_in_, config(), runs);
+    tof_.advance(n, idle_tof_in_, config());
     for (std::size_t w = 0; w < kEncoderCount; ++w)
       spi_pins_.encoders[w] = last[w];
   }
@@ -127,8 +117,8 @@ class OdolocChip {
   std::uint64_t advance(std::uint64_t n, const In& pins) { return fast_forward(*this, n, pins); }
   [[nodiscard]] bool idle(const In& pins) const {
     const Wires w = wires(pins);
-    return fabric_.idle(w.fabric, config_) && tof_.idle(w.tof, config_) && spi_.idle(w.spi) &&
-           registers_.idle(w.registers);
+    return fabric_.idle(w.fabric, config()) && tof_.idle(w.tof, config()) &&
+           interface_.idle(w.interface, w.status);
   }
 
   // ---- the sensor side behind the bus side (fast-forward inside frames) ----
@@ -140,18 +130,16 @@ class OdolocChip {
   // quiet: bit-identical to stepping, because the bus side reads the sensor
   // side (the snapshot, a read) and writes it (pulses, configuration) only in
   // such a clock.
-  [[nodiscard]] bool bus_quiet(const In& pins) const {
-    return registers_.quiet(spi_.strobing(), pins.reset);
-  }
+  [[nodiscard]] bool bus_quiet(const In& pins) const { return interface_.quiet(pins.reset); }
   // One clock of the SPI slave alone, bus_quiet(pins); the sensor side is
   // then one more clock behind.
   void step_bus(const In& pins) {
     record_spi_pins(pins);
-    spi_.step(quiet_spi_in(pins));
+    interface_.step_quiet(interface_pins(pins));
   }
   // How many of the next clocks the sensor side can skip (reads no pin).
   [[nodiscard]] std::uint64_t sensor_clocks_until_event() const {
-    return fabric_.clocks_until_event(idle_fabric_in_, config_);
+    return fabric_.clocks_until_event(idle_fabric_in_, config());
   }
   // n clocks of the sensor side alone with `pins` held, bit-identical to
   // n quiet steps of it; returns how many were skipped.
@@ -163,42 +151,34 @@ class OdolocChip {
   void reset_now() {
     fabric_.reset_now();
     tof_.reset_now();
-    spi_.reset_now();
-    registers_.reset_now();
-    config_ = registers_.config();
+    interface_.reset_now();
   }
 
-  [[nodiscard]] UInt<1> miso() const { return spi_.miso(); }
+  [[nodiscard]] UInt<1> miso() const { return interface_.miso(); }
   // The pins of the last clock.
   [[nodiscard]] const ChipPins& pins() const { return spi_pins_; }
   [[nodiscard]] const OdometryFabric& fabric() const { return fabric_; }
   [[nodiscard]] const ChipTofCapture& tof() const { return tof_; }
-  [[nodiscard]] const SpiSlave& spi() const { return spi_; }
-  [[nodiscard]] const FabricRegisters& registers() const { return registers_; }
-  // The configuration ports: registers().config(), kept decoded.
-  [[nodiscard]] const ports::Config& config() const { return config_; }
+  [[nodiscard]] const ChipRegisterInterface& interface() const { return interface_; }
+  [[nodiscard]] const SpiSlave& spi() const { return interface_.spi(); }
+  [[nodiscard]] const ChipRegisterInterface::Registers& registers() const {
+    return interface_.registers();
+  }
+  // The configuration ports: the register file's stored words, decoded.
+  [[nodiscard]] const ports::Config& config() const { return interface_.config(); }
 
   template <class V>
   void trace(V& v) const {
     trace_fields(v, spi_pins_);
     v.signal("miso", miso());
-    trace_scope(v, "spi", spi_);
-    trace_scope(v, "registers", registers_);
+    interface_.trace(v);  // its scopes spi and registers
     trace_scope(v, "fabric", fabric_);
     trace_scope(v, "tof", tof_);
   }
 
  private:
-  // The slave's inputs on a clock without a read or a refused write.
-  [[nodiscard]] SpiSlave::In quiet_spi_in(const In& pins) const {
-    return {.sclk = pins.sclk,
-            .cs_n = pins.cs_n,
-            .mosi = pins.mosi,
-            .crc_enable = config_.top.ctrl.crc_enable,
-            .spi_mode3 = config_.top.ctrl.spi_mode3,
-            .read_data = UInt<32>{},
-            .write_refused = UInt<1>{},
-            .reset = pins.reset};
+  static ChipRegisterInterface::In interface_pins(const In& pins) {
+    return {.sclk = pins.sclk, .cs_n = pins.cs_n, .mosi = pins.mosi, .reset = pins.reset};
   }
   // The fabric's and capture unit's inputs on a clock without strobes.
   static void set_sensor_pins(OdometryFabric::In& fabric, ChipTofCapture::In& tof, const In& pins) {
@@ -237,8 +217,8 @@ class OdolocChip {
     void step(const In& pins) {
       chip.record_sensor_pins(pins);
       set_sensor_pins(chip.idle_fabric_in_, chip.idle_tof_in_, pins);
-      chip.fabric_.step(chip.idle_fabric_in_, chip.config_);
-      chip.tof_.step_pins(chip.idle_tof_in_, chip.config_);
+      chip.fabric_.step(chip.idle_fabric_in_, chip.config());
+      chip.tof_.step_pins(chip.idle_tof_in_, chip.config());
     }
     void skip(std::uint64_t n, const In& pins) { chip.skip(n, pins); }
   };
@@ -248,22 +228,30 @@ class OdolocChip {
   template <Gating G, class Order>
   [[gnu::noinline]] void step_all(const In& pins, const Order& order) {
     const Wires w = wires(pins);
-    const bool writes = (w.registers.spi.commit & w.registers.spi.commit_write) == UInt<1>{1};
-    order([&] { fabric_.step<G>(w.fabric, config_, order); },
-          [&] { tof_.step<G>(w.tof, config_, order); }, [&] { spi_.step<G>(w.spi, order); },
-          [&] { clock_block<G>(registers_, w.registers); });
-    if (writes || pins.reset)  // the configuration ports decode the stored words
-      config_ = registers_.config();
+    const auto clock_children = [&](const ports::Config& cfg) {
+      order([&] { fabric_.step<G>(w.fabric, cfg, order); },
+            [&] { tof_.step<G>(w.tof, cfg, order); },
+            [&] { interface_.step<G>(w.interface, w.status, order); });
+    };
+    // The configuration ports are the register file's registers, decoded: a
+    // clock that may change them clocks the others with a copy of the
+    // current ones.
+    if (writes_config(w)) {
+      const ports::Config before = config();
+      clock_children(before);
+    } else {
+      clock_children(config());
+    }
+  }
+  // A clock in which the register file may change the stored words.
+  [[nodiscard]] bool writes_config(const Wires& w) const {
+    const SpiEngineRegs& e = interface_.spi().engine();
+    return !(e.commit & e.commit_write).is_zero() || !w.interface.reset.is_zero();
   }
 
   OdometryFabric fabric_;
   ChipTofCapture tof_;
-  SpiSlave spi_;
-  FabricRegisters registers_;
-  // registers_.config(), refreshed whenever a write or reset changes the
-  // stored words: a pure function of registers_' registers, kept decoded for
-  // simulation speed.
-  ports::Config config_;
+  ChipRegisterInterface interface_;
   OdometryFabric::In idle_fabric_in_;  // the fabric's inputs when no strobe is pending
   ChipTofCapture::In idle_tof_in_;     // the capture unit's inputs when no strobe is pending
   ChipPins spi_pins_;                  // the pins of the last clock, for waveforms

@@ -166,7 +166,7 @@ std::string emit_ports(const RegisterMap& map);
 // odoloc/logic/ports.hpp: the same port structs over an integer-type family,
 // C++14, for the blocks' logic and the HLS kernels.
 std::string emit_logic_ports(const RegisterMap& map);
-// odoloc/hls/regfile_map.hpp: the same facts as emit_cpp in plain C++14, for the
+// odoloc/logic/regfile_map.hpp: the same facts as emit_cpp in plain C++14, for the
 // HLS kernels (constexpr integers and tables).
 std::string emit_hls(const RegisterMap& map);
 std::string emit_c(const RegisterMap& map);
