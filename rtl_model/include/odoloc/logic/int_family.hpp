@@ -51,48 +51,48 @@ template <class T>
 struct IntTraits;
 
 template <class To, class From>
-constexpr To wrap(const From& v) {
+inline To wrap(const From& v) {
   return IntTraits<To>::wrap(v);
 }
 template <class T>
-constexpr long long to_s64(const T& v) {
+inline long long to_s64(const T& v) {
   return IntTraits<T>::to_s64(v);
 }
 template <class T>
-constexpr bool is_zero(const T& v) {
+inline bool is_zero(const T& v) {
   return IntTraits<T>::to_s64(v) == 0;
 }
 template <int Hi, int Lo, class T>
-constexpr uint<typename IntTraits<T>::family, Hi - Lo + 1> bits(const T& v) {
+inline uint<typename IntTraits<T>::family, Hi - Lo + 1> bits(const T& v) {
   return IntTraits<T>::template bits<Hi, Lo>(v);
 }
 template <int I, class T>
-constexpr uint<typename IntTraits<T>::family, 1> bit(const T& v) {
+inline uint<typename IntTraits<T>::family, 1> bit(const T& v) {
   return IntTraits<T>::template bits<I, I>(v);
 }
 template <int N, class T>
-constexpr auto shl(const T& v) {
+inline auto shl(const T& v) {
   return IntTraits<T>::template shl<N>(v);
 }
 template <int N, class T>
-constexpr T shr(const T& v) {
+inline T shr(const T& v) {
   return IntTraits<T>::template shr<N>(v);
 }
 template <class T, class A>
-constexpr T shr_by(const T& v, const A& amount) {
+inline T shr_by(const T& v, const A& amount) {
   return IntTraits<T>::shr_by(v, amount);
 }
 // {high, low}: high in the upper bits. A family may spell it itself
 // (IntTraits<H>::cat, the model's: one shift and one or).
 template <class H, class L>
-constexpr uint<typename IntTraits<H>::family, IntTraits<H>::width + IntTraits<L>::width> cat(
+inline uint<typename IntTraits<H>::family, IntTraits<H>::width + IntTraits<L>::width> cat(
     const H& high, const L& low) {
   return IntTraits<H>::cat(high, low);
 }
 // cat() of a family without its own: the bits of both through wrap and shl.
 template <class H, class L>
-constexpr uint<typename IntTraits<H>::family, IntTraits<H>::width + IntTraits<L>::width>
-generic_cat(const H& high, const L& low) {
+inline uint<typename IntTraits<H>::family, IntTraits<H>::width + IntTraits<L>::width> generic_cat(
+    const H& high, const L& low) {
   using Result = uint<typename IntTraits<H>::family, IntTraits<H>::width + IntTraits<L>::width>;
   return wrap<Result>(shl<IntTraits<L>::width>(high) |
                       wrap<Result>(bits<IntTraits<L>::width - 1, 0>(low)));

@@ -115,10 +115,9 @@ using EdgeCount = uint<F, kCountBits>;
 
 // CRC-8 as in SAE J1850 (regmap/odoloc.yaml, spi.crc): polynomial 0x1D,
 // init 0xFF, no reflection, final XOR 0xFF. One message bit into the CRC
-// shift register, as the hardware does per SCLK (constexpr where the
-// family's types are literal types: the model's).
+// shift register, as the hardware does per SCLK.
 template <class F>
-constexpr Crc<F> crc8_step(const Crc<F>& crc, const uint<F, 1>& message_bit) {
+inline Crc<F> crc8_step(const Crc<F>& crc, const uint<F, 1>& message_bit) {
   const Crc<F> shifted = wrap<Crc<F> >(shl<1>(crc));
   if (bit<7>(crc) != message_bit)
     return wrap<Crc<F> >(shifted ^ Crc<F>(map::spi::kCrcPolynomial));

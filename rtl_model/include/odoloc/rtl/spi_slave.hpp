@@ -25,7 +25,7 @@ inline constexpr std::uint8_t kCrc8Init = regs::spi::kCrcInit;
 inline constexpr std::uint8_t kCrc8XorOut = regs::spi::kCrcXorOut;
 
 // The CRC of a whole message, bit by bit as the slave computes it.
-constexpr std::uint8_t crc8_j1850(std::span<const std::uint8_t> bytes) {
+inline std::uint8_t crc8_j1850(std::span<const std::uint8_t> bytes) {
   UInt<8> crc{kCrc8Init};
   for (const std::uint8_t b : bytes)
     for (int i = 7; i >= 0; --i)
