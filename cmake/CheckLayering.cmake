@@ -8,17 +8,25 @@
 #                       and HLS: odoloc/logic/ and the C++14 constant headers
 #                       (odoloc/rtl/*_constants.hpp) only
 #   soc_software/       never odoloc/rtl/, odoloc/world/, odoloc/board/, odoloc/cli/
-#   host_tools/world/   the C++ standard library and odoloc/world/... only
-#   host_tools/board/   never odoloc/cli/
-#   host_tools/sweep/   never odoloc/cli/ (the host tool sits on the sweep library)
-#   host_tools/lcm/     never odoloc/rtl/ (transport code does not know the model)
-#   host_tools/plot/    the standard library, fmt, LCM, odoloc/lcm/ and its
+#   host_tools/sim/world/
+#                       the C++ standard library and odoloc/world/... only
+#   host_tools/sim/board/
+#                       never odoloc/cli/
+#   host_tools/tools/sweep/
+#                       never odoloc/cli/ (the host tool sits on the sweep library)
+#   host_tools/support/lcm/
+#                       never odoloc/rtl/ (transport code does not know the model)
+#   host_tools/tools/plot/
+#                       the standard library, fmt, LCM, odoloc/lcm/ and its
 #                       generated odoloc_lcm/, odoloc/process/, odoloc/output/
 #                       and odoloc/plot/ only: it reads logs, it knows nothing of the model
-#   host_tools/sim/     never odoloc/cli/ (the host tool's `sim` sits on it)
-#   host_tools/verification/  never odoloc/hls_export/, odoloc/cli/: the kernels'
+#   host_tools/sim/system/
+#                       never odoloc/cli/ (the host tool's `sim` sits on it)
+#   hls/verification/
+#                       never odoloc/hls_export/, odoloc/cli/: the kernels'
 #                       references and stimulus are verification, the exporter uses them
-#   host_tools/bridge/  never odoloc/rtl/, odoloc/world/, odoloc/board/, odoloc/cli/: the
+#   host_tools/tools/bridge/
+#                       never odoloc/rtl/, odoloc/world/, odoloc/board/, odoloc/cli/: the
 #                       register bridge knows LCM, sw::RegisterBus and the register map
 #   hls/include, hls/src  the standard library, odoloc/hls/, the blocks' logic
 #                       (odoloc/logic/), the model's C++14 constant headers
@@ -31,8 +39,8 @@
 # as file:line and the script fails. LINKS_FILE (written at configure time by
 # testbenches/CMakeLists.txt) holds what the layer targets link, so the CMake
 # targets are checked the same way: odoloc_world links nothing but the
-# warning flags, odoloc_rtl and odoloc_sw link no host-tool target and not
-# each other, odoloc_bridge links neither the model nor the board, odoloc_plot
+# warning flags, odoloc_rtl and the SoC software's libraries (odoloc_sw and
+# its subsystems) link no host-tool target and not each other, odoloc_bridge links neither the model nor the board, odoloc_plot
 # only the LCM layer, odoloc_process, odoloc_output and fmt.
 cmake_minimum_required(VERSION 3.25)
 
@@ -127,24 +135,24 @@ check_layer(rtl_model/include/odoloc/logic
             ALLOW_STD ALLOW "^odoloc/logic/" "^odoloc/rtl/[a-z_0-9]+_constants\\.hpp$")
 check_layer(soc_software "the SoC software never includes the model, the world, the board or the tool"
             DENY "^odoloc/rtl/" "^odoloc/world/" "^odoloc/board/" "^odoloc/cli/")
-check_layer(host_tools/world "the world includes only the standard library and odoloc/world/"
+check_layer(host_tools/sim/world "the world includes only the standard library and odoloc/world/"
             ALLOW_STD ALLOW "^odoloc/world/")
-check_layer(host_tools/board "the board never includes the host tool"
+check_layer(host_tools/sim/board "the board never includes the host tool"
             DENY "^odoloc/cli/")
-check_layer(host_tools/sweep "the sweep library never includes the host tool"
+check_layer(host_tools/tools/sweep "the sweep library never includes the host tool"
             DENY "^odoloc/cli/")
-check_layer(host_tools/lcm "the LCM message layer never includes the model"
+check_layer(host_tools/support/lcm "the LCM message layer never includes the model"
             DENY "^odoloc/rtl/")
-check_layer(host_tools/plot
+check_layer(host_tools/tools/plot
             "the plot library includes only the standard library, fmt, LCM, its message layer, odoloc/process/, odoloc/output/ and odoloc/plot/"
             ALLOW_STD ALLOW "^odoloc/plot/" "^odoloc/lcm/" "^odoloc_lcm/" "^odoloc/process/"
                             "^odoloc/output/"
                             "^lcm/" "^fmt/" "^(stdlib|unistd)\\.h$")
-check_layer(host_tools/sim "the simulator never includes the host tool" DENY "^odoloc/cli/")
-check_layer(host_tools/verification
+check_layer(host_tools/sim/system "the simulator never includes the host tool" DENY "^odoloc/cli/")
+check_layer(hls/verification
             "the kernels' verification never includes the exporter or the host tool"
             DENY "^odoloc/hls_export/" "^odoloc/cli/")
-check_layer(host_tools/bridge
+check_layer(host_tools/tools/bridge
             "the register bridge never includes the model, the world, the board or the tool"
             DENY "^odoloc/rtl/" "^odoloc/world/" "^odoloc/board/" "^odoloc/cli/")
 foreach(dir hls/include hls/src)
@@ -202,8 +210,11 @@ if(LINKS_FILE)
               ALLOW odoloc_warnings)
   check_links(odoloc_rtl "the model links no software or host-tool target"
               DENY odoloc_sw ${host_tool_targets})
-  check_links(odoloc_sw "the SoC software links no model or host-tool target"
-              DENY odoloc_rtl ${host_tool_targets})
+  foreach(sw odoloc_sw odoloc_sw_bus odoloc_sw_odometry odoloc_sw_tof odoloc_sw_locate
+             odoloc_sw_fuse odoloc_sw_station odoloc_sw_localiser)
+    check_links(${sw} "the SoC software links no model or host-tool target"
+                DENY odoloc_rtl ${host_tool_targets})
+  endforeach()
   check_links(odoloc_plot
               "the plot library links only the LCM layer, process, output, fmt and the warnings"
               ALLOW odoloc_lcm odoloc_process odoloc_output fmt::fmt odoloc_warnings)

@@ -46,7 +46,7 @@ install(DIRECTORY examples/ DESTINATION ${CMAKE_INSTALL_DOCDIR}/examples COMPONE
                                        WORLD_EXECUTE)
 # The LCM message definitions, for lcm-gen in other languages. Their own
 # folder, so that generated bindings can sit beside them later.
-install(DIRECTORY host_tools/lcm/lcmtypes/ DESTINATION ${CMAKE_INSTALL_DATADIR}/odoloc/lcmtypes
+install(DIRECTORY host_tools/support/lcm/lcmtypes/ DESTINATION ${CMAKE_INSTALL_DATADIR}/odoloc/lcmtypes
         COMPONENT host-tool FILE_PERMISSIONS ${odoloc_file_perms}
         DIRECTORY_PERMISSIONS ${odoloc_dir_perms} FILES_MATCHING PATTERN "*.lcm")
 
@@ -86,7 +86,7 @@ if(ODOLOC_HELP2MAN)
                      WORKING_DIRECTORY ${odoloc_pkg_dir}
                      COMMENT "Generating the man page odoloc.1 with help2man" VERBATIM)
   list(APPEND odoloc_pkg_outputs ${odoloc_pkg_dir}/odoloc.1.gz)
-  if(ODOLOC_LCM_SPY)  # host_tools/lcm: the lcm-spy launcher, when Java is there
+  if(ODOLOC_LCM_SPY)  # host_tools/support/lcm: the lcm-spy launcher, when Java is there
     add_custom_command(OUTPUT ${odoloc_pkg_dir}/odoloc-lcm-spy.1.gz
                        COMMAND ${ODOLOC_HELP2MAN} --no-info --section=1
                                --include=${PROJECT_SOURCE_DIR}/packaging/odoloc-lcm-spy.h2m

@@ -12,11 +12,21 @@ out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 for tree in "${trees[@]}"; do
   b=$tree/build/default
+  # The tree's own layout (folders moved under issue 28): every include
+  # directory and library of the model, the SoC software, the world and the
+  # board that exists in it.
   inc=(-I"$PWD/testbenches/support" -I"$tree/rtl_model/include" -I"$b/generated/include"
-       -I"$tree/host_tools/world/include" -I"$tree/host_tools/board/include"
-       -I"$tree/soc_software/include" -isystem /usr/include/eigen3)
-  libs=("$b/host_tools/board/libodoloc_board.a" "$b/soc_software/libodoloc_sw.a"
-        "$b/host_tools/world/libodoloc_world.a" "$b/rtl_model/libodoloc_rtl.a" -lfmt)
+       -isystem /usr/include/eigen3)
+  for dir in "$tree"/soc_software/include "$tree"/soc_software/*/include \
+             "$tree"/host_tools/{,sim/}{world,board}/include; do
+    [ -d "$dir" ] && inc+=(-I"$dir")
+  done
+  libs=(-Wl,--start-group)
+  for lib in "$b"/host_tools/{,sim/}{board,world}/libodoloc_*.a "$b"/soc_software/libodoloc_sw*.a \
+             "$b"/rtl_model/libodoloc_rtl.a; do
+    [ -f "$lib" ] && libs+=("$lib")
+  done
+  libs+=(-Wl,--end-group -lfmt)
   for driver in four_eppm chip fast_forward; do
     g++ -O3 -DNDEBUG -std=c++20 "${inc[@]}" "testbenches/bench/counts/$driver.cpp" \
         -o "$out/$driver" "${libs[@]}"

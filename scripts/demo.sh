@@ -5,4 +5,4 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/build.sh default odoloc
-exec build/default/host_tools/cli/odoloc sim --out odoloc-sim "$@"
+exec build/default/host_tools/tools/cli/odoloc sim --out odoloc-sim "$@"

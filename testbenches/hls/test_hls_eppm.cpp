@@ -1,6 +1,6 @@
 // The EPPM kernel (hls/eppm_kernel.hpp) against the cycle model (rtl::Eppm),
 // compiled once per type family:
-// - under the reference's seeded stimulus (host_tools/verification/src/
+// - under the reference's seeded stimulus (hls/verification/src/
 //   eppm_reference.cpp) every output equals the model's after every call
 //   (1e6 calls; 1e8 in hls_long), and every register (synchroniser, filter
 //   counters, the decoder's previous level, timebase, pulse accumulator,

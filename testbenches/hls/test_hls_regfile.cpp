@@ -1,7 +1,7 @@
 // The register interface kernel (hls/regfile_kernel.hpp: the SPI slave and
 // the register file, one call per fabric clock) against the cycle model
 // (rtl::RegisterInterface), compiled once per type family:
-// - under the reference's seeded stimulus (host_tools/verification/src/
+// - under the reference's seeded stimulus (hls/verification/src/
 //   regfile_reference.cpp: reads, writes and bursts everywhere, refused
 //   writes, w1c/w1p strobes, rc and rpop reads, cut, long, too fast and
 //   CRC-corrupted frames, resets) every output of every clock equals the

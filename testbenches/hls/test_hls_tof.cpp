@@ -1,6 +1,6 @@
 // The TOF capture kernel (hls/tof_kernel.hpp) against the cycle model
 // (rtl::TofCapture<>, the chip's unit), compiled once per type family:
-// - under the reference's seeded stimulus (host_tools/verification/src/
+// - under the reference's seeded stimulus (hls/verification/src/
 //   tof_reference.cpp) every output equals the model's after every call, and
 //   every register (the filter's counters, the prescaler, the FIFO slots
 //   beyond the register window, the snapshot levels ...) equals the model's;

@@ -1,4 +1,4 @@
-// `odoloc plot` (host_tools/plot, docs/host-tool.md): a log written through
+// `odoloc plot` (host_tools/tools/plot, docs/host-tool.md): a log written through
 // LCM's file provider with known series (a truth circle, a fused estimate 3 cm
 // outside it and 0.02 rad ahead, an odometry drifting linearly, fixes with
 // chosen errors, malformed events) is read back; the errors and their

@@ -1,6 +1,6 @@
 // The beacon solvers against the Cramer-Rao bound, by seeded Monte Carlo over
 // Kleeman's 10 m room with 6 beacons, on measurement sets made by the
-// acoustic world (host_tools/world): its geometry, wall echoes (image
+// acoustic world (host_tools/sim/world): its geometry, wall echoes (image
 // sources), occlusion, spreading, air absorption, directivity and threshold
 // decide which wavefronts the robot hears and when; its turbulence jitter
 // and a Gaussian for the capture chain's residual timing error (rise-time

@@ -1,5 +1,5 @@
-// A kernel against its cycle-model reference (host_tools/verification, found through the kernel
-// table of host_tools/hls_export), call by call: the same seeded stimulus goes into the model and,
+// A kernel against its cycle-model reference (hls/verification, found through the kernel
+// table of hls/export), call by call: the same seeded stimulus goes into the model and,
 // through the kernel's field lists (visit_fields), into the kernel; every output of every call must
 // be equal. Used by test_hls_<kernel>_<family>, once per type family.
 //

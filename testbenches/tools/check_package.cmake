@@ -83,8 +83,8 @@ foreach(md host-tool simulator lcm hls sweep spi register-map)
   list(APPEND expected ${doc}/${md}.md)
 endforeach()
 file(GLOB_RECURSE examples RELATIVE "${SOURCE_DIR}/examples" "${SOURCE_DIR}/examples/*")
-file(GLOB lcmtypes RELATIVE "${SOURCE_DIR}/host_tools/lcm/lcmtypes"
-     "${SOURCE_DIR}/host_tools/lcm/lcmtypes/*.lcm")
+file(GLOB lcmtypes RELATIVE "${SOURCE_DIR}/host_tools/support/lcm/lcmtypes"
+     "${SOURCE_DIR}/host_tools/support/lcm/lcmtypes/*.lcm")
 if(NOT examples OR NOT lcmtypes)
   message(FATAL_ERROR "no examples/ files or no .lcm files under ${SOURCE_DIR}")
 endif()

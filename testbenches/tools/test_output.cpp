@@ -1,4 +1,4 @@
-// The output layer (host_tools/output) and gnuplot's quoting
+// The output layer (host_tools/support/output) and gnuplot's quoting
 // (odoloc/process/gnuplot.hpp): what a file, a symbolic link, a FIFO and a
 // private device node receive; what an uncommitted output leaves (nothing);
 // printable() against glibc's UTF-8 decoder over every string of one and

@@ -1,0 +1,275 @@
+// The SoC's localisation loop (localiser.hpp).
+#include "odoloc/sw/localiser.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <iterator>
+#include <numbers>
+#include <utility>
+
+#include "odoloc/sw/detail/config_checks.hpp"
+
+namespace odoloc::sw {
+
+namespace {
+
+bool usable(const tof::Arrival& a) {
+  return std::isfinite(a.distance_m) && std::isfinite(a.sd_m) &&
+         (a.flags.bits() & locate::kUnusableFlags.bits()) == 0;
+}
+
+// The robot-clock time at which beacon `beacon`'s candidate `a` reached the
+// robot origin: its slot's start plus its time in the slot.
+double capture_time_s(const tof::CycleMeasurement& cycle, int beacon, const tof::Arrival& a) {
+  return cycle.anchor_s + beacon * cycle.fire_period_s + a.time_s;
+}
+
+// The fix's time: the mean capture time of the ranges it used (the middle
+// of the cycle when it used none).
+double fix_time_s(const tof::CycleMeasurement& cycle, const locate::Fix& fix) {
+  double sum = 0;
+  int n = 0;
+  for (const locate::BeaconUse& u : fix.beacons) {
+    if (u.status != locate::BeaconStatus::kUsed || u.candidate < 0)
+      continue;
+    const tof::BeaconMeasurement& m = cycle.beacons[static_cast<std::size_t>(u.beacon)];
+    sum += capture_time_s(cycle, u.beacon, m.candidates[static_cast<std::size_t>(u.candidate)]);
+    ++n;
+  }
+  if (n > 0)
+    return sum / n;
+  return cycle.anchor_s + 0.5 * static_cast<double>(cycle.beacons.size()) * cycle.fire_period_s;
+}
+
+}  // namespace
+
+void LocaliserConfig::validate() const {
+  constexpr std::string_view kOwner = "LocaliserConfig";
+  detail::require(start_pose.allFinite(), kOwner, "start_pose must be finite");
+  detail::require(detail::finite_non_negative(chain_sd_m), kOwner,
+                  "chain_sd_m must be finite and >= 0");
+  // The capture driver unwraps 32-bit timestamps: at least one drain
+  // every 85 s (tof_capture_driver.hpp); far less keeps the FIFOs short.
+  detail::require(capture_period_s >= 0 && capture_period_s <= 1, kOwner,
+                  "capture_period_s must be in [0, 1] s");
+  detail::require(static_cast<int>(layout.beacons.size()) == kleeman.schedule.beacons, kOwner,
+                  "layout must have one beacon per kleeman.schedule.beacons");
+  // A cycle's ranges are fused when the cycle is complete, up to two
+  // cycles after beacon 0's arrival: the filter must keep that much.
+  detail::require(ekf.history_s >= 2 * kleeman.schedule.cycle_s(), kOwner,
+                  "ekf.history_s must cover two beacon cycles (the ranges are fused late)");
+  if (station) {
+    station->validate();
+    detail::require(capture.sync_enable, kOwner,
+                    "the base station needs capture.sync_enable (its packets' strobes)");
+    detail::require(kleeman.schedule.reserved_slots >= 1, kOwner,
+                    "the base station needs kleeman.schedule.reserved_slots >= 1 (its bursts)");
+  }
+  layout.validate();
+  kleeman.validate();
+  multilateration.validate();
+  ekf.validate();
+}
+
+Localiser::Localiser(RegisterBus& bus, const LocaliserConfig& config, station::Link* link)
+    : config_((config.validate(), config)),
+      odometry_(bus),
+      capture_(bus, config.capture),
+      decoder_([&] {
+        tof::KleemanConfig k = config.kleeman;
+        k.timebase = capture_.timebase();
+        return k;
+      }()),
+      ekf_(config.ekf),
+      link_(link) {
+  detail::require(!config_.station || link_ != nullptr, "Localiser",
+                  "a base station (config.station) needs a station::Link");
+  odometry_.configure(config_.vehicle, config_.min_select, config_.update_clocks, config_.policy);
+  odometry_.set_pose(config_.start_pose.x(), config_.start_pose.y(), config_.start_pose.z());
+  std::uint32_t armed = 0;
+  for (unsigned c = 0; c < tof::kCaptureChannels; ++c)
+    armed |= config_.capture.channels[c].enabled ? 1U << c : 0U;
+  capture_.arm(armed);
+}
+
+double Localiser::now_s() {
+  return static_cast<double>(capture_.now()) * capture_.timebase().tick_s();
+}
+
+LocaliserStep Localiser::step() {
+  LocaliserStep out;
+  out.odometry = odometry_.read();
+  out.time_s = now_s();
+  const fuse::Pose pose{{out.odometry.x_m, out.odometry.y_m, out.odometry.theta_rad}};
+  out.increment = fuse::increment_between(
+      track_.empty() ? fuse::Pose{config_.start_pose} : track_.back().pose, pose);
+  if (!track_.empty())
+    ekf_.predict(out.time_s, fuse::Increment{out.increment});
+  track_.push_back({out.time_s, pose});
+  // Kept: the filter's history and the cycle being decoded.
+  const double keep_s = config_.ekf.history_s + config_.kleeman.schedule.cycle_s();
+  while (track_.size() > 2 && track_[1].time_s < out.time_s - keep_s)
+    track_.pop_front();
+
+  if (last_drain_s_ >= 0 && out.time_s - last_drain_s_ < config_.capture_period_s) {
+    out.estimate = ekf_.estimate();
+    return out;
+  }
+  last_drain_s_ = out.time_s;
+  out.batch = capture_.read();
+  if (config_.station)
+    take_packets(*out.batch, out);
+  for (tof::CycleMeasurement& m : decoder_.push(*out.batch)) {
+    CycleResult& cycle = out.cycles.emplace_back();
+    cycle.measurement = std::move(m);
+    process(cycle);
+    if (config_.station)
+      take_ranges(cycle.measurement, out);
+  }
+  out.estimate = ekf_.estimate();
+  return out;
+}
+
+fuse::Pose Localiser::odometry_at(double time_s) const {
+  const auto after = std::ranges::upper_bound(track_, time_s, {}, &OdometrySample::time_s);
+  if (after == track_.begin())
+    return track_.front().pose;
+  if (after == track_.end())
+    return track_.back().pose;
+  const OdometrySample& a = *std::prev(after);
+  const OdometrySample& b = *after;
+  const double f = (time_s - a.time_s) / (b.time_s - a.time_s);
+  return fuse::compose(a.pose, f * fuse::increment_between(a.pose, b.pose));
+}
+
+void Localiser::process(CycleResult& cycle) {
+  const tof::CycleMeasurement& m = cycle.measurement;
+  if (!m.locked())
+    return;
+  cycle.fix = locate::multilaterate(config_.layout, locate::range_set(m), config_.multilateration);
+  cycle.time_s = fix_time_s(m, cycle.fix);
+  if (cycle.fix.valid)
+    cycle.heading = locate::beacon_heading(cycle.fix, config_.layout,
+                                           locate::used_directions(m, cycle.fix), config_.heading);
+  if (!ekf_.estimate().initialised) {
+    if (cycle.fix.valid && cycle.heading.valid) {
+      initialise_from(cycle);
+      cycle.fused = fuse::Outcome::kAccepted;
+    }
+    return;
+  }
+  if (!config_.fuse_beacon_ranges)
+    return;
+  // Two places explain the cycle: its ranges would pull towards either.
+  if (cycle.fix.reason == locate::NoFixReason::kAmbiguousBeaconSets) {
+    cycle.fused = fuse::Outcome::kAmbiguous;
+    return;
+  }
+  cycle.fused = ekf_.update(m.anchor_s, motion_compensated(m));
+}
+
+void Localiser::initialise_from(const CycleResult& cycle) {
+  fuse::Matrix3 covariance = fuse::Matrix3::Zero();
+  covariance.topLeftCorner<2, 2>() = cycle.fix.covariance_m2;
+  covariance(2, 2) = cycle.heading.sd_rad * cycle.heading.sd_rad;
+  const fuse::Pose fix{{cycle.fix.position_m.x, cycle.fix.position_m.y, cycle.heading.heading_rad}};
+  ekf_.initialise(cycle.time_s, fix, covariance);
+  // The odometry since the fix's time, onto the new pose.
+  fuse::Pose from = odometry_at(cycle.time_s);
+  for (const OdometrySample& s : track_) {
+    if (s.time_s <= cycle.time_s)
+      continue;
+    ekf_.predict(s.time_s, fuse::Increment{fuse::increment_between(from, s.pose)});
+    from = s.pose;
+  }
+}
+
+fuse::RangeSet Localiser::motion_compensated(const tof::CycleMeasurement& cycle) const {
+  fuse::RangeSet set;
+  const fuse::Pose at_set = odometry_at(cycle.anchor_s);
+  const double along = config_.ekf.odometry.along_sd_per_sqrt_m;
+  for (const tof::BeaconMeasurement& b : cycle.beacons) {
+    const tof::Arrival* a = b.direct();
+    if (a == nullptr || !usable(*a))
+      continue;
+    const locate::Beacon& beacon = config_.layout.beacons[static_cast<std::size_t>(b.beacon)];
+    const fuse::Vector2 motion =
+        fuse::increment_between(at_set, odometry_at(capture_time_s(cycle, b.beacon, *a))).head<2>();
+    const double variance =
+        a->sd_m * a->sd_m + config_.chain_sd_m * config_.chain_sd_m + along * along * motion.norm();
+    fuse::BeaconRange r;
+    r.beacon_m = {beacon.position_m.x, beacon.position_m.y};
+    r.height_m = beacon.height_m;
+    r.distance_m = a->distance_m;
+    r.sd_m = std::sqrt(variance);
+    r.motion_m = motion;
+    set.ranges.push_back(r);
+  }
+  return set;
+}
+
+void Localiser::take_packets(const tof::CaptureBatch& batch, LocaliserStep& out) {
+  while (std::optional<station::Report> r = link_->receive())
+    packets_.add_packet(*r);
+  std::vector<double> edges_s;
+  for (const tof::Tick t : batch.sync)
+    edges_s.push_back(batch.timebase.edge_time_s(t, 0));
+  packets_.add_edges(edges_s, std::ranges::any_of(batch.incidents, [](const tof::Incident& i) {
+                       return i.channel == tof::kSyncChannel;
+                     }));
+  const station::StationConfig& st = *config_.station;
+  while (const std::optional<station::TimedReport> p = packets_.next()) {
+    const station::Report& r = p->report;
+    switch (r.kind) {
+      case station::ReportKind::kStationSawRobot:
+        fuse_station({p->time_s, station::station_bearing(st, r.count)}, out);
+        break;
+      case station::ReportKind::kRobotSawStation:
+        fuse_station({p->time_s, station::robot_bearing(st, r.count)}, out);
+        break;
+      case station::ReportKind::kRanging:
+        rangings_.push_back(p->time_s);
+        break;
+    }
+  }
+}
+
+void Localiser::take_ranges(const tof::CycleMeasurement& cycle, LocaliserStep& out) {
+  const station::StationConfig& st = *config_.station;
+  const tof::BeaconSchedule& schedule = config_.kleeman.schedule;
+  const double c = cycle.speed_of_sound_mps;
+  const double reserved_start = cycle.anchor_s + schedule.beacons * cycle.fire_period_s;
+  const double cycle_end = cycle.anchor_s + schedule.cycle_s();
+  // Quantisation of the two timestamps (the packet's edge, the arrival's).
+  const double tick_sd_m = c * std::sqrt(2.0) * capture_.timebase().quantisation_sd_s();
+  while (!rangings_.empty() && rangings_.front() + st.t0_s < cycle_end) {
+    const double sent_s = rangings_.front() + st.t0_s;  // the burst leaves the station
+    rangings_.pop_front();
+    // The first wavefront heard by enough receivers after the burst left,
+    // within the range looked for: later ones are echoes.
+    const auto first = std::ranges::find_if(cycle.reserved, [&](const tof::Arrival& a) {
+      const double flight_s = reserved_start + a.time_s - sent_s;
+      return usable(a) && std::popcount(a.receivers) >= config_.kleeman.min_receivers &&
+             flight_s > 0 && flight_s * c <= st.max_range_m;
+    });
+    if (first == cycle.reserved.end())
+      continue;
+    const double arrival_s = reserved_start + first->time_s;
+    fuse::StationRange range;
+    range.station_m = st.position_m;
+    range.height_m = st.height_m;
+    range.distance_m = c * (arrival_s - sent_s);  // Liu eq. 14.8
+    range.sd_m = std::sqrt(first->sd_m * first->sd_m + st.chain_sd_m * st.chain_sd_m +
+                           tick_sd_m * tick_sd_m);
+    fuse_station({arrival_s, range}, out);
+  }
+}
+
+void Localiser::fuse_station(StationUpdate update, LocaliserStep& out) {
+  if (ekf_.estimate().initialised)
+    update.fused = ekf_.update(update.time_s, update.measurement);
+  out.station.push_back(std::move(update));
+}
+
+}  // namespace odoloc::sw
