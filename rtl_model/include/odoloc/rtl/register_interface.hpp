@@ -58,9 +58,13 @@ class RegisterInterface {
     }
     step_all<G>(pins, status, order);
   }
-  // One clock with quiet(pins.reset): the slave alone.
+  // One clock with quiet(pins.reset): the slave alone (nothing at all when
+  // it is settled on these pins, the common case: checked before its inputs
+  // are built).
   template <Gating G = Gating::kOn, class Order = DeclarationOrder>
   void step_quiet(const In& pins, const Order& order = {}) {
+    if (G == Gating::kOn && spi_.settled_on(pins.sclk, pins.cs_n, pins.mosi, pins.reset))
+      return;
     spi_.step<G>(quiet_spi_in(pins), order);
   }
   [[nodiscard]] bool idle(const In& pins, const Status& status) const {

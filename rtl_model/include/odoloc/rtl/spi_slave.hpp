@@ -170,6 +170,13 @@ class SpiSlave {
     settled_ = false;
   }
 
+  // Settled on the pins it last took, these pins and no reset: a clock with
+  // them and no refused write changes nothing (the gated step's fast path).
+  [[nodiscard]] bool settled_on(UInt<1> sclk, UInt<1> cs_n, UInt<1> mosi, UInt<1> reset) const {
+    const SpiSynchroniserRegs& s = synchroniser_.regs();
+    return settled_ && sclk == s.sclk_meta && cs_n == s.cs_meta && mosi == s.mosi_meta &&
+           reset.is_zero();
+  }
   // Any strobe the register side acts on (port()'s strobes, without the copy).
   [[nodiscard]] bool strobing() const { return engine_.strobing(); }
   [[nodiscard]] SpiRegisterPort port() const {
@@ -218,9 +225,7 @@ class SpiSlave {
            !engine_.strobing();
   }
   [[nodiscard]] bool quiet(const In& in) const {
-    const SpiSynchroniserRegs& s = synchroniser_.regs();
-    return settled_ && in.sclk == s.sclk_meta && in.cs_n == s.cs_meta && in.mosi == s.mosi_meta &&
-           (in.reset | in.write_refused).is_zero();
+    return settled_on(in.sclk, in.cs_n, in.mosi, in.reset) && in.write_refused.is_zero();
   }
 
   SpiSynchroniser synchroniser_;
