@@ -439,11 +439,19 @@ TEST(HlsRegfile, StatusWordsAreReadAsSampled) {
   b.in.status.bank[slot(rf::kStatus, info)].value = 0x0000ABCDU;
   EXPECT_EQ(b.read(count), regs::eppm::count::value.mask());
   EXPECT_EQ(b.read(info), 0xABCDU);  // hw bits only: every field of tof.info is driven
-  // The status changes after the snapshot: the frame still reads the sample.
-  Result changed;
-  b.run({.read = true, .address = count, .words = {0}, .bits = 8});  // cut: a snapshot, no data
-  b.in.status.bank[slot(rf::kStatus, count)].value = 0;
-  EXPECT_EQ(b.read(count), 0U);
+  // The status changes 20 clocks into a read of count, after the snapshot and
+  // before the word is fetched: the frame still returns the sample.
+  const std::uint8_t read_count[] = {
+      static_cast<std::uint8_t>(0x80U | count >> 8), static_cast<std::uint8_t>(count), 0, 0, 0, 0};
+  odoloc::board::SpiPinMaster master({.half_period = regs::spi::kMinLevelClocks});
+  int clocks = 0;
+  const auto miso = master.transfer(read_count, [&](UInt<1> sclk, UInt<1> cs_n, UInt<1> mosi) {
+    if (++clocks == 20)
+      b.in.status.bank[slot(rf::kStatus, count)].value = 0;
+    return b.clock(sclk, cs_n, mosi);
+  });
+  EXPECT_EQ(Result{.miso = miso}.word(0), regs::eppm::count::value.mask());
+  EXPECT_EQ(b.read(count), 0U);  // the next frame samples the new status
 }
 
 }  // namespace
