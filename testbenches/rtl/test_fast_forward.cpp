@@ -48,7 +48,7 @@ bool same_sensor_pins(const ChipPins& a, const ChipPins& b) {
 // in one advance(). Inside a frame (cs_n low) `forwarded` clocks its slave
 // alone while its register file is quiet (step_bus) and brings its sensor
 // side up, run by run of the sensor pins it fell behind by
-// (advance_sensors), before the first clock that is not.
+// (sensors().advance), before the first clock that is not.
 class TwinChips {
  public:
   void clock(const ChipPins& pins) {
@@ -99,7 +99,7 @@ class TwinChips {
   }
   void catch_up() {
     for (const Behind& b : behind_)
-      forwarded_.advance_sensors(b.clocks, b.pins);
+      forwarded_.sensors().advance(b.clocks, b.pins);
     behind_.clear();
   }
   OdolocChip stepped_, forwarded_;

@@ -22,6 +22,7 @@
 // virtual calls: blocks compose by value.
 #pragma once
 
+#include <algorithm>
 #include <concepts>
 #include <cstdint>
 #include <string_view>
@@ -137,12 +138,34 @@ constexpr std::uint64_t clock_of_fire(std::uint64_t count, std::uint64_t last, s
   return clocks_to_fire(count, last) + (k - 1) * (last + 1);
 }
 
+// The contract as a concept: what fast_forward() and the board's drivers
+// call on a block, a composite and the chip alike.
+template <class B, class... Config>
+concept FastForwardBlock = requires(B b, const B cb, const typename B::In& in, std::uint64_t n,
+                                    const Config&... config) {
+  { cb.clocks_until_event(in, config...) } -> std::same_as<std::uint64_t>;
+  b.skip(n, in, config...);
+  b.step(in, config...);
+};
+
+// The horizon of a composite whose children interact: the nearest of their
+// horizons (each a callable, asked in order until one is 0). Children that
+// share no signal while the others skip advance on their own through their
+// events instead (fast_forward), and bound nothing.
+template <class... Horizon>
+std::uint64_t nearest_event(const Horizon&... horizon) {
+  std::uint64_t nearest = kNoEvent;
+  static_cast<void>((((nearest = std::min(nearest, horizon())) != 0) && ...));
+  return nearest;
+}
+
 // n clocks with `in` held: skipped up to each event, stepped through it.
 // Bit-identical to n calls of block.step(in, config...). Returns how many of
 // the n were skipped.
 template <class Block, class... Config>
 std::uint64_t fast_forward(Block& block, std::uint64_t n, const typename Block::In& in,
                            const Config&... config) {
+  static_assert(FastForwardBlock<Block, Config...>, "fast_forward needs the fast-forward contract");
   std::uint64_t skipped = 0;
   while (n != 0) {
     // One clock: a step costs no more than a skip and needs no horizon.

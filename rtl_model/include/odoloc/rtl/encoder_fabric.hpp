@@ -20,6 +20,12 @@ struct PinRun {
   std::uint64_t clocks = 1;
 };
 
+// The runs of encoder pins that hold for a whole skip: runs(w, max) is
+// encoder w's pins for max clocks.
+inline auto held_runs(const std::array<UInt<2>, kEncoderCount>& pins) {
+  return [&pins](std::size_t w, std::uint64_t max) { return PinRun{pins[w], max}; };
+}
+
 class EncoderFabric {
  public:
   using In = std::array<EppmInputs, kEncoderCount>;

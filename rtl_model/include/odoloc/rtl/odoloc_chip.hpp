@@ -82,26 +82,23 @@ class OdolocChip {
   }
 
   // Fast-forward (clocked.hpp): how many of the next clocks, with `pins`
-  // held, can be skipped: 0 while the SPI slave or the register file has
-  // anything to do (a strobe, a frame, a reset), else until the odometry
-  // period ends. In between, the capture unit and the fabric's EPPMs share
-  // no signal with anything, so each advances on its own through its events.
+  // held, can be skipped: the nearest of the register interface's horizon
+  // (0 while the SPI slave or the register file has anything to do: a
+  // strobe, a frame, a reset) and the sensor side's (the odometry period's
+  // end). In between, the capture unit and the fabric's EPPMs share no
+  // signal with anything, so each advances on its own through its events.
   [[nodiscard]] std::uint64_t clocks_until_event(const In& pins) const {
-    if (interface_.clocks_until_event(interface_pins(pins)) == 0)
-      return 0;
-    return sensor_clocks_until_event();
+    return nearest_event([&] { return interface_.clocks_until_event(interface_pins(pins)); },
+                         [&] { return sensor_clocks_until_event(); });
   }
-  void skip(std::uint64_t n, const In& pins) {
-    skip(n, pins, [&pins](std::size_t w, std::uint64_t clocks) {
-      return PinRun{pins.encoders[w], clocks};
-    });
-  }
+  void skip(std::uint64_t n, const In& pins) { skip(n, pins, held_runs(pins.encoders)); }
   // skip() with each encoder's pins following its own runs (runs(w, max):
   // encoder w's next PinRun, EncoderFabric::advance) and the other pins
-  // held, n <= clocks_until_event(pins), which reads no encoder pin. The
-  // fast path for moving wheels: a pin change costs its EPPM's events only.
-  // It moves the sensor side only (the bus side is idle), so behind a frame
-  // (step_bus) n <= sensor_clocks_until_event() suffices.
+  // held, n <= clocks_until_event(pins), which reads no encoder pin:
+  // piecewise-constant pins, the one input form of a skip. A pin change
+  // costs its EPPM's events only. It moves the sensor side only (the bus
+  // side is idle), so behind a frame n <= sensors().clocks_until_event()
+  // suffices.
   template <class Runs>
   void skip(std::uint64_t n, const In& pins, Runs&& runs) {
     record_sensor_pins(pins);
@@ -120,33 +117,52 @@ class OdolocChip {
     return fabric_.idle(w.fabric, config()) && tof_.idle(w.tof, config()) &&
            interface_.idle(w.interface, w.status);
   }
-
-  // ---- the sensor side behind the bus side (fast-forward inside frames) ----
+  // ---- the two sides (fast-forward inside frames) ---------------------------
   // While the register file is quiet (bus_quiet: no slave strobe, no pulse
-  // pending, no reset), the fabric and the capture unit share no signal with
-  // the SPI slave. The clocks of a frame can then clock the slave alone
-  // (step_bus) and bring the sensor side up by as many clocks later
-  // (advance_sensors, or skip with runs), before the first clock that is not
-  // quiet: bit-identical to stepping, because the bus side reads the sensor
-  // side (the snapshot, a read) and writes it (pulses, configuration) only in
-  // such a clock.
+  // pending, no reset), the sensor side (the fabric and the capture unit)
+  // shares no signal with the bus side (the SPI slave). The clocks of a
+  // frame can then clock the bus side alone (step_bus) and bring the sensor
+  // side, a fast-forward block of its own (sensors()), up by as many clocks
+  // later, before the first clock that is not quiet: bit-identical to
+  // stepping, because the bus side reads the sensor side (the snapshot, a
+  // read) and writes it (pulses, configuration) only in such a clock.
   [[nodiscard]] bool bus_quiet(const In& pins) const { return interface_.quiet(pins.reset); }
-  // One clock of the SPI slave alone, bus_quiet(pins); the sensor side is
+  // One clock of the bus side alone, bus_quiet(pins); the sensor side is
   // then one more clock behind.
   void step_bus(const In& pins) {
     record_spi_pins(pins);
     interface_.step_quiet(interface_pins(pins));
   }
-  // How many of the next clocks the sensor side can skip (reads no pin).
-  [[nodiscard]] std::uint64_t sensor_clocks_until_event() const {
-    return fabric_.clocks_until_event(idle_fabric_in_, config());
-  }
-  // n clocks of the sensor side alone with `pins` held, bit-identical to
-  // n quiet steps of it; returns how many were skipped.
-  std::uint64_t advance_sensors(std::uint64_t n, const In& pins) {
-    SensorSide sensors{*this};
-    return fast_forward(sensors, n, pins);
-  }
+  // The sensor side on quiet clocks: the same contract as the chip's
+  // (clocks_until_event reads no pin; skip as the chip's).
+  class SensorSide {
+   public:
+    using In = ChipPins;
+    [[nodiscard]] std::uint64_t clocks_until_event(const In& /*pins*/) const {
+      return chip_->sensor_clocks_until_event();
+    }
+    void step(const In& pins) {
+      OdolocChip& chip = *chip_;
+      chip.record_sensor_pins(pins);
+      set_sensor_pins(chip.idle_fabric_in_, chip.idle_tof_in_, pins);
+      chip.fabric_.step(chip.idle_fabric_in_, chip.config());
+      chip.tof_.step_pins(chip.idle_tof_in_, chip.config());
+    }
+    void skip(std::uint64_t n, const In& pins) { chip_->skip(n, pins); }
+    template <class Runs>
+    void skip(std::uint64_t n, const In& pins, Runs&& runs) {
+      chip_->skip(n, pins, runs);
+    }
+    // n quiet clocks of the sensor side with `pins` held; returns how many
+    // were skipped.
+    std::uint64_t advance(std::uint64_t n, const In& pins) { return fast_forward(*this, n, pins); }
+
+   private:
+    friend class OdolocChip;
+    explicit SensorSide(OdolocChip& chip) : chip_(&chip) {}
+    OdolocChip* chip_;
+  };
+  [[nodiscard]] SensorSide sensors() { return SensorSide{*this}; }
 
   void reset_now() {
     fabric_.reset_now();
@@ -206,22 +222,10 @@ class OdolocChip {
     spi_pins_.reset = pins.reset;
   }
 
-  // The fabric and the capture unit on quiet clocks, as a block of their
-  // own for fast_forward (advance_sensors).
-  struct SensorSide {
-    using In = ChipPins;
-    OdolocChip& chip;
-    [[nodiscard]] std::uint64_t clocks_until_event(const In& /*pins*/) const {
-      return chip.sensor_clocks_until_event();
-    }
-    void step(const In& pins) {
-      chip.record_sensor_pins(pins);
-      set_sensor_pins(chip.idle_fabric_in_, chip.idle_tof_in_, pins);
-      chip.fabric_.step(chip.idle_fabric_in_, chip.config());
-      chip.tof_.step_pins(chip.idle_tof_in_, chip.config());
-    }
-    void skip(std::uint64_t n, const In& pins) { chip.skip(n, pins); }
-  };
+  // How many of the next clocks the sensor side can skip (reads no pin).
+  [[nodiscard]] std::uint64_t sensor_clocks_until_event() const {
+    return fabric_.clocks_until_event(idle_fabric_in_, config());
+  }
 
   // A clock with a strobe or pulse: out of line, so the quiet clocks do not
   // pay for its large frame (the wires carry the whole status).
@@ -256,5 +260,6 @@ class OdolocChip {
   ChipTofCapture::In idle_tof_in_;     // the capture unit's inputs when no strobe is pending
   ChipPins spi_pins_;                  // the pins of the last clock, for waveforms
 };
+static_assert(FastForwardBlock<OdolocChip> && FastForwardBlock<OdolocChip::SensorSide>);
 
 }  // namespace odoloc::rtl

@@ -63,9 +63,7 @@ class OdometryFabric {
     return datapath_.clocks_until_event(datapath_in(in), cfg.odometry);
   }
   void skip(std::uint64_t n, const In& in, const Config& cfg) {
-    skip(n, in, cfg, [&in](std::size_t w, std::uint64_t clocks) {
-      return PinRun{in.pins[w], clocks};
-    });
+    skip(n, in, cfg, held_runs(in.pins));
   }
   // The same with each encoder's pins following its own runs
   // (EncoderFabric::advance; the EPPMs share no signal, so each steps

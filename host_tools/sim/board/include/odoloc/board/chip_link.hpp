@@ -28,22 +28,20 @@ class SensorStimulus {
   virtual ~SensorStimulus() = default;
   // Sets the sensor pins of the next clock, and moves on one clock.
   virtual void tick(rtl::ChipPins& pins) = 0;
-  // How many of the clocks after it keep the pins the last tick() set (0:
-  // unknown), and moving on by n <= hold() of them at once.
+  // How many of the clocks after it keep every pin the last tick() set but
+  // the encoders' (0: unknown). Over such a stretch the encoders' pins are
+  // piecewise constant: begin_encoder_runs() starts one cursor per encoder
+  // at the last tick's levels, and encoder_run(w, level, max) returns
+  // encoder w's next run (at most max clocks, w in fabric order; `level`:
+  // the last tick's) and moves its cursor on. By default an encoder's pins
+  // hold too.
   [[nodiscard]] virtual std::uint64_t hold() const = 0;
-  virtual void skip(std::uint64_t clocks) = 0;
-
-  // Optional, for moving wheels: how many of the clocks after the last
-  // tick() keep every pin but the encoders' (0: not offered). Over such a
-  // stretch, begin_encoder_runs() starts one cursor per encoder at the last
-  // tick's levels, encoder_run(w, max) returns encoder w's next run of held
-  // pins (at most max clocks, w in fabric order) and moves its cursor on,
-  // and end_encoder_runs(n) moves the whole stimulus on by the n clocks
-  // after the last tick that the runs covered.
-  [[nodiscard]] virtual std::uint64_t encoder_runs_hold() const { return 0; }
   virtual void begin_encoder_runs() {}
-  virtual rtl::PinRun encoder_run(std::size_t /*w*/, std::uint64_t max) { return {{}, max}; }
-  virtual void end_encoder_runs(std::uint64_t /*clocks*/) {}
+  virtual rtl::PinRun encoder_run(std::size_t /*w*/, rtl::UInt<2> level, std::uint64_t max) {
+    return {level, max};
+  }
+  // Moves on by clocks <= hold() at once.
+  virtual void skip(std::uint64_t clocks) = 0;
 };
 
 class ChipLink final : public sw::SpiLink {
@@ -112,7 +110,7 @@ class ChipLink final : public sw::SpiLink {
     pins_.sclk = idle_sclk;
     pins_.cs_n = rtl::UInt<1>{1};
     pins_.mosi = rtl::UInt<1>{};
-    skipped_ += drive_stimulus(clocks, Part::kWholeChip);
+    skipped_ += drive_stimulus(chip_, clocks);
     clocks_ += clocks;
   }
   // Every clock stepped, as before fast-forward (for comparisons: --cycle-step).
@@ -150,30 +148,41 @@ class ChipLink final : public sw::SpiLink {
   }
 
  private:
-  // What drive_stimulus clocks: the whole chip with the bus idle, or the
-  // sensor side alone behind a frame.
-  enum class Part : bool { kWholeChip, kSensors };
-
-  // `clocks` clocks of the stimulus, fast-forwarded between its pin changes;
-  // returns how many were skipped rather than stepped.
-  std::uint64_t drive_stimulus(std::uint64_t clocks, Part part) {
+  // `clocks` clocks of `block` (the whole chip with the bus idle, or its
+  // sensor side behind a frame) on the stimulus's pins: each tick() is
+  // followed by as many clocks as the block's horizon and the stimulus's
+  // hold allow, skipped with the encoders following their runs
+  // (OdolocChip::skip with runs), else by one stepped clock. Returns how
+  // many clocks were skipped rather than stepped.
+  template <class Block>
+  std::uint64_t drive_stimulus(Block&& block, std::uint64_t clocks) {
     std::uint64_t skipped = 0;
     while (clocks != 0) {
-      std::uint64_t run = clocks;  // clocks on these pins
+      std::uint64_t hold = SensorStimulus::kForever;  // clocks after this one
       if (stimulus_ != nullptr) {
         stimulus_->tick(pins_);
-        if (const std::uint64_t walked = walk_encoders(clocks, part)) {
-          skipped += walked;
-          clocks -= walked;
-          continue;
-        }
-        const std::uint64_t held = std::min(clocks - 1, stimulus_->hold());
-        stimulus_->skip(held);
-        run = 1 + held;
+        hold = stimulus_->hold();
       }
-      skipped +=
-          part == Part::kWholeChip ? chip_.advance(run, pins_) : chip_.advance_sensors(run, pins_);
-      clocks -= run;
+      const std::uint64_t n = clocks == 1 ? 1
+                                          : std::min({clocks, hold < clocks ? 1 + hold : clocks,
+                                                      block.clocks_until_event(pins_)});
+      if (n < 2) {
+        block.step(pins_);
+        --clocks;
+        continue;
+      }
+      if (stimulus_ != nullptr) {
+        stimulus_->begin_encoder_runs();
+        block.skip(n, pins_, [this](std::size_t w, std::uint64_t max) {
+          return stimulus_->encoder_run(w, pins_.encoders[w], max);
+        });
+        stimulus_->skip(n - 1);
+        pins_.encoders = chip_.pins().encoders;
+      } else {
+        block.skip(n, pins_);
+      }
+      skipped += n;
+      clocks -= n;
     }
     return skipped;
   }
@@ -181,27 +190,7 @@ class ChipLink final : public sw::SpiLink {
   void catch_up_sensors() {
     const std::uint64_t lag = std::exchange(sensor_lag_, 0);
     if (lag != 0)
-      drive_stimulus(lag, Part::kSensors);
-  }
-
-  // After a tick(): when only the encoder pins change for a while and the
-  // chip can skip, skips up to `clocks` of them walking each encoder's own
-  // runs (OdolocChip::skip with runs); returns the clocks done (0: none).
-  std::uint64_t walk_encoders(std::uint64_t clocks, Part part) {
-    const std::uint64_t hold = stimulus_->encoder_runs_hold();
-    if (hold == 0)
-      return 0;
-    const std::uint64_t horizon = part == Part::kWholeChip ? chip_.clocks_until_event(pins_)
-                                                           : chip_.sensor_clocks_until_event();
-    const std::uint64_t n = std::min({clocks, 1 + hold, horizon});
-    if (n < 2)
-      return 0;
-    stimulus_->begin_encoder_runs();
-    chip_.skip(n, pins_,
-               [this](std::size_t w, std::uint64_t max) { return stimulus_->encoder_run(w, max); });
-    stimulus_->end_encoder_runs(n - 1);
-    pins_.encoders = chip_.pins().encoders;
-    return n;
+      drive_stimulus(chip_.sensors(), lag);
   }
 
   // A per-clock function as a stimulus that never knows how long it holds.

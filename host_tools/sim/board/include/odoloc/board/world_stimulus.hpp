@@ -31,11 +31,28 @@ class WorldStimulus final : public SensorStimulus {
       pins.tof_sync = rtl::UInt<1>::truncate(levels.sync);
     }
   }
+  // Inside one physics step each encoder's phase moves at a fixed rate, so
+  // a copy of its source walks its edges (TricycleSimulator::source): the
+  // encoders' runs last to the step's end, the other pins to the acoustic
+  // world's next transition.
   [[nodiscard]] std::uint64_t hold() const override {
-    std::uint64_t hold = moving() ? truth_->hold_ticks() : kForever;
+    std::uint64_t hold = moving() ? truth_->ticks_to_step_end() : kForever;
     if (acoustics_ != nullptr && acoustics_->next_transition_clock() != world::PinSource::kNever)
       hold = std::min(hold, acoustics_->next_transition_clock() - acoustics_->clock());
     return hold;
+  }
+  void begin_encoder_runs() override {
+    if (moving())
+      for (const world::Encoder e : world::kEncoders)
+        cursors_[static_cast<std::size_t>(fabric_input(e))] = truth_->source(e);
+  }
+  rtl::PinRun encoder_run(std::size_t w, rtl::UInt<2> level, std::uint64_t max) override {
+    if (!moving())
+      return {level, max};
+    world::QuadratureSource& cursor = cursors_[w];
+    const rtl::PinRun run{encoder_pins(cursor.level()), std::min(max, cursor.ticks_to_next_edge())};
+    cursor.skip(run.clocks);
+    return run;
   }
   void skip(std::uint64_t clocks) override {
     if (moving())
@@ -43,28 +60,6 @@ class WorldStimulus final : public SensorStimulus {
     if (acoustics_ != nullptr)
       acoustics_->skip_to(acoustics_->clock() + clocks);
   }
-
-  // Inside one physics step each encoder's phase moves at a fixed rate, so
-  // a copy of its source walks its edges (TricycleSimulator::source).
-  [[nodiscard]] std::uint64_t encoder_runs_hold() const override {
-    if (!moving())
-      return 0;
-    std::uint64_t hold = truth_->ticks_to_step_end();
-    if (acoustics_ != nullptr && acoustics_->next_transition_clock() != world::PinSource::kNever)
-      hold = std::min(hold, acoustics_->next_transition_clock() - acoustics_->clock());
-    return hold;
-  }
-  void begin_encoder_runs() override {
-    for (const world::Encoder e : world::kEncoders)
-      cursors_[static_cast<std::size_t>(fabric_input(e))] = truth_->source(e);
-  }
-  rtl::PinRun encoder_run(std::size_t w, std::uint64_t max) override {
-    world::QuadratureSource& cursor = cursors_[w];
-    const rtl::PinRun run{encoder_pins(cursor.level()), std::min(max, cursor.ticks_to_next_edge())};
-    cursor.skip(run.clocks);
-    return run;
-  }
-  void end_encoder_runs(std::uint64_t clocks) override { skip(clocks); }
 
  private:
   [[nodiscard]] bool moving() const { return truth_ != nullptr && !truth_->done(); }
