@@ -27,7 +27,7 @@ for tree in "${trees[@]}"; do
     [ -f "$lib" ] && libs+=("$lib")
   done
   libs+=(-Wl,--end-group -lfmt)
-  for driver in four_eppm chip fast_forward; do
+  for driver in four_eppm chip fast_forward fast_forward_moving; do
     g++ -O3 -DNDEBUG -std=c++20 "${inc[@]}" "testbenches/bench/counts/$driver.cpp" \
         -o "$out/$driver" "${libs[@]}"
     valgrind --tool=cachegrind --cache-sim=no --cachegrind-out-file="$out/cg" \

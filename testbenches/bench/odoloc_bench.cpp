@@ -23,6 +23,7 @@
 #include "odoloc/world/scenarios.hpp"
 #include "odoloc/world/tricycle.hpp"
 #include "odometry_bench.hpp"
+#include "synthetic_pins.hpp"
 
 namespace {
 
@@ -30,6 +31,7 @@ using odoloc::board::encoder_pins;
 using odoloc::rtl::EncoderFabric;
 using odoloc::rtl::kEncoderCount;
 using odoloc::tb::IssueStimulus;
+using odoloc::tb::SyntheticPins;
 using odoloc::world::QuadratureSource;
 
 // Four encoders at four speeds; the steering encoder reverses every 1.3 ms.
@@ -234,49 +236,6 @@ BENCHMARK(BM_Patrol)
     ->Unit(benchmark::kSecond);
 
 // ---- how cost grows with work ---------------------------------------------
-// Synthetic sensor pins for the scaling benchmarks: `encoders` encoders at
-// `edges_per_second` each (the rest still), and `channels` comparators each
-// pulsing 100 us high every 1 ms (the capture unit armed on all eight; its
-// FIFOs fill, then count overflows: the same work per pulse). Knows when its
-// pins next change, so the link fast-forwards between them.
-class SyntheticPins final : public odoloc::board::SensorStimulus {
- public:
-  static constexpr std::uint64_t kPulsePeriod = 50'000;  // 1 ms
-  static constexpr std::uint64_t kPulseWidth = 5'000;    // 100 us
-  SyntheticPins(std::size_t encoders, double edges_per_second, std::size_t channels)
-      : channels_(channels) {
-    for (std::size_t w = 0; w < encoders; ++w)
-      sources_[w].set_rate(edges_per_second / odoloc::rtl::kFabricClockHz);
-  }
-  void tick(odoloc::rtl::ChipPins& pins) override {
-    for (std::size_t w = 0; w < kEncoderCount; ++w)
-      pins.encoders[w] = encoder_pins(sources_[w].tick());
-    const bool high = clock_ % kPulsePeriod < kPulseWidth;
-    pins.comparators = decltype(pins.comparators)::truncate(high ? (1U << channels_) - 1 : 0U);
-    ++clock_;
-  }
-  [[nodiscard]] std::uint64_t hold() const override {
-    std::uint64_t hold = kForever;
-    for (const QuadratureSource& s : sources_)
-      hold = std::min(hold, s.ticks_to_next_edge() - 1);
-    if (channels_ != 0) {
-      const std::uint64_t phase = clock_ % kPulsePeriod;
-      hold = std::min(hold, (phase < kPulseWidth ? kPulseWidth : kPulsePeriod) - phase);
-    }
-    return hold;
-  }
-  void skip(std::uint64_t clocks) override {
-    for (QuadratureSource& s : sources_)
-      s.skip(clocks);
-    clock_ += clocks;
-  }
-
- private:
-  std::array<QuadratureSource, kEncoderCount> sources_{};
-  std::size_t channels_;
-  std::uint64_t clock_ = 0;
-};
-
 // Runs the chip on SyntheticPins (SPI idle) for 20 ms of fabric time per
 // iteration: items/s are fabric clocks per second (fast-forward: effective).
 void run_scaling(benchmark::State& state, std::size_t encoders, double edges_per_second,

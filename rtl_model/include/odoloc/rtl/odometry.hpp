@@ -221,7 +221,7 @@ class OdometryDatapath {
       return 0;
     return sequencer_.clocks_to_period_end(cfg.cfg.update_clocks);
   }
-  void skip(std::uint64_t n, const In& in, const Config& cfg) {
+  [[gnu::flatten]] void skip(std::uint64_t n, const In& in, const Config& cfg) {
     while (n != 0 && !sequencer_.in(OdometryPhase::kIdle)) {
       const std::uint64_t iterations = cordic_wait();
       if (iterations == 0) {

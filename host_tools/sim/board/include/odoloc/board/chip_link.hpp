@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 #include <span>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -30,15 +31,15 @@ class SensorStimulus {
   virtual void tick(rtl::ChipPins& pins) = 0;
   // How many of the clocks after it keep every pin the last tick() set but
   // the encoders' (0: unknown). Over such a stretch the encoders' pins are
-  // piecewise constant: begin_encoder_runs() starts one cursor per encoder
-  // at the last tick's levels, and encoder_run(w, level, max) returns
-  // encoder w's next run (at most max clocks, w in fabric order; `level`:
-  // the last tick's) and moves its cursor on. By default an encoder's pins
-  // hold too.
+  // piecewise constant: begin_encoder_runs() returns whether they change in
+  // it (by default they hold too) and, if so, starts one cursor per encoder
+  // at the last tick's levels; encoder_run(w, max) then returns encoder w's
+  // next run (at most max clocks, w in fabric order) and moves its cursor
+  // on.
   [[nodiscard]] virtual std::uint64_t hold() const = 0;
-  virtual void begin_encoder_runs() {}
-  virtual rtl::PinRun encoder_run(std::size_t /*w*/, rtl::UInt<2> level, std::uint64_t max) {
-    return {level, max};
+  [[nodiscard]] virtual bool begin_encoder_runs() { return false; }
+  virtual rtl::PinRun encoder_run(std::size_t /*w*/, std::uint64_t /*max*/) {
+    throw std::logic_error("SensorStimulus::encoder_run without encoder runs");
   }
   // Moves on by clocks <= hold() at once.
   virtual void skip(std::uint64_t clocks) = 0;
@@ -149,39 +150,37 @@ class ChipLink final : public sw::SpiLink {
 
  private:
   // `clocks` clocks of `block` (the whole chip with the bus idle, or its
-  // sensor side behind a frame) on the stimulus's pins: each tick() is
-  // followed by as many clocks as the block's horizon and the stimulus's
-  // hold allow, skipped with the encoders following their runs
-  // (OdolocChip::skip with runs), else by one stepped clock. Returns how
-  // many clocks were skipped rather than stepped.
+  // sensor side behind a frame) on the stimulus's pins. Each tick() is
+  // followed by the clocks its pins hold: with the encoders holding too,
+  // fast-forwarded (block.advance); with them moving, skipped up to the
+  // block's horizon with the encoders following their runs (skip with
+  // runs), or one clock stepped. Returns how many clocks were skipped
+  // rather than stepped.
   template <class Block>
   std::uint64_t drive_stimulus(Block&& block, std::uint64_t clocks) {
+    if (stimulus_ == nullptr)
+      return block.advance(clocks, pins_);
     std::uint64_t skipped = 0;
     while (clocks != 0) {
-      std::uint64_t hold = SensorStimulus::kForever;  // clocks after this one
-      if (stimulus_ != nullptr) {
-        stimulus_->tick(pins_);
-        hold = stimulus_->hold();
-      }
-      const std::uint64_t n = clocks == 1 ? 1
-                                          : std::min({clocks, hold < clocks ? 1 + hold : clocks,
-                                                      block.clocks_until_event(pins_)});
-      if (n < 2) {
-        block.step(pins_);
-        --clocks;
-        continue;
-      }
-      if (stimulus_ != nullptr) {
-        stimulus_->begin_encoder_runs();
-        block.skip(n, pins_, [this](std::size_t w, std::uint64_t max) {
-          return stimulus_->encoder_run(w, pins_.encoders[w], max);
-        });
-        stimulus_->skip(n - 1);
-        pins_.encoders = chip_.pins().encoders;
+      stimulus_->tick(pins_);
+      const std::uint64_t run = 1 + std::min(clocks - 1, stimulus_->hold());  // on these pins
+      std::uint64_t n = run;
+      if (run > 1 && stimulus_->begin_encoder_runs()) {
+        n = std::min(run, block.clocks_until_event(pins_));
+        if (n < 2) {
+          block.step(pins_);
+          n = 1;
+        } else {
+          block.skip(n, pins_, [this](std::size_t w, std::uint64_t max) {
+            return stimulus_->encoder_run(w, max);
+          });
+          pins_.encoders = chip_.pins().encoders;
+          skipped += n;
+        }
       } else {
-        block.skip(n, pins_);
+        skipped += block.advance(run, pins_);
       }
-      skipped += n;
+      stimulus_->skip(n - 1);
       clocks -= n;
     }
     return skipped;

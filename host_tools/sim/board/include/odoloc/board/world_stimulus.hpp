@@ -41,14 +41,14 @@ class WorldStimulus final : public SensorStimulus {
       hold = std::min(hold, acoustics_->next_transition_clock() - acoustics_->clock());
     return hold;
   }
-  void begin_encoder_runs() override {
-    if (moving())
-      for (const world::Encoder e : world::kEncoders)
-        cursors_[static_cast<std::size_t>(fabric_input(e))] = truth_->source(e);
-  }
-  rtl::PinRun encoder_run(std::size_t w, rtl::UInt<2> level, std::uint64_t max) override {
+  bool begin_encoder_runs() override {
     if (!moving())
-      return {level, max};
+      return false;
+    for (const world::Encoder e : world::kEncoders)
+      cursors_[static_cast<std::size_t>(fabric_input(e))] = truth_->source(e);
+    return true;
+  }
+  rtl::PinRun encoder_run(std::size_t w, std::uint64_t max) override {
     world::QuadratureSource& cursor = cursors_[w];
     const rtl::PinRun run{encoder_pins(cursor.level()), std::min(max, cursor.ticks_to_next_edge())};
     cursor.skip(run.clocks);
