@@ -286,6 +286,41 @@ TEST(FastForward, PeriodMeterSaturatesAsStepping) {
   EXPECT_EQ(difference_at(eppm, in, around({saturation, saturation + 1'000'000}), cfg), "");
 }
 
+// A settled EPPM (a nonzero count, a sticky phase error) given a control
+// and held there, its pins unchanged or new: a latch-and-clear, a flag's
+// clear and a reset each make every clock an event, which fast-forward
+// steps (the EPPM's horizon asks for calm before anything else).
+TEST(FastForward, HeldControlsOnASettledEppmAsStepping) {
+  odoloc::rtl::EppmConfig cfg;
+  cfg.prescale.divider = UInt<16>{3};
+  cfg.window.clocks = UInt<23>{500};
+  odoloc::rtl::Eppm settled;
+  odoloc::rtl::EppmInputs in{};
+  // Four forward steps, then both lines at once (illegal), then settling.
+  for (const unsigned ab : {0U, 1U, 3U, 2U, 0U, 3U, 3U, 3U}) {
+    in.a = UInt<1>::truncate(ab >> 1);
+    in.b = UInt<1>::truncate(ab);
+    for (int k = 0; k < 10; ++k)
+      settled.step(in, cfg);
+  }
+  ASSERT_NE(settled.count().value(), 0);
+  ASSERT_EQ(settled.decoder().phase_error.value(), 1U);
+  std::array<odoloc::rtl::EppmInputs, 6> controls{in, in, in, in, in, in};
+  controls[0].latch_clear = UInt<1>{1};
+  controls[1].clear.status.phase_error = UInt<1>{1};
+  controls[2].clear.status.carry = UInt<1>{1};
+  controls[3].clear.status.borrow = UInt<1>{1};
+  controls[4].clear.status.period_overflow = UInt<1>{1};
+  controls[5].reset = UInt<1>{1};
+  for (std::size_t c = 0; c < controls.size(); ++c)
+    for (const unsigned a : {1U, 0U}) {  // A held (pins unchanged), then A new
+      odoloc::rtl::EppmInputs held = controls[c];
+      held.a = UInt<1>::truncate(a);
+      EXPECT_EQ(difference_at(settled, held, {1, 2, 3, 7, 40, 600}, cfg), "")
+          << "control " << c << ", A " << a;
+    }
+}
+
 // An update period of 0 stops updates; the period counter still wraps at 2^16.
 TEST(FastForward, StoppedUpdatesWrapThePeriodCounterAsStepping) {
   odoloc::rtl::OdometryFabric fabric;

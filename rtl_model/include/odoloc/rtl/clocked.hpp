@@ -153,7 +153,7 @@ concept FastForwardBlock = requires(B b, const B cb, const typename B::In& in, s
 // share no signal while the others skip advance on their own through their
 // events instead (fast_forward), and bound nothing.
 template <class... Horizon>
-std::uint64_t nearest_event(const Horizon&... horizon) {
+[[gnu::always_inline]] inline std::uint64_t nearest_event(const Horizon&... horizon) {
   std::uint64_t nearest = kNoEvent;
   static_cast<void>((((nearest = std::min(nearest, horizon())) != 0) && ...));
   return nearest;

@@ -219,13 +219,14 @@ class Eppm {
   // differs from a quiet clock. Unless the window ends in those clocks: then
   // every clock is stepped.
   [[nodiscard]] std::uint64_t clocks_until_event(const In& in, const Config& cfg) const {
+    // Mid-edge or a control, the common answer inside an edge, first.
+    if (!calm(in))
+      return 0;
     const std::uint64_t window = timebase_.clocks_to_window_end(cfg.window.clocks);
     if (quiet(in, cfg))
       return window;
-    if (!taking(in, cfg))
-      return 0;
     const std::uint64_t take = QuadratureConditioner::clocks_to_take(cfg.cfg.filter_clocks);
-    return window >= take ? take : 0;
+    return window >= take ? take : 0;  // taking
   }
   void skip(std::uint64_t n, const In& in, const Config& cfg) {
     if (taking(in, cfg)) {
