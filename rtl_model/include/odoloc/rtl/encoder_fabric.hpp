@@ -35,7 +35,7 @@ class EncoderFabric {
   template <Gating G = Gating::kOn, class Order = DeclarationOrder>
   [[gnu::flatten]] void step(const In& in, const Config& cfg, const Order& order = {}) {
     [&]<std::size_t... W>(std::index_sequence<W...>) {
-      order([&] { eppm_[W].template step_compact<G>(in[W], cfg[W], order); }...);
+      order([&] { eppm_[W].template step<G>(in[W], cfg[W], order); }...);
     }
     (std::make_index_sequence<kEncoderCount>{});
   }

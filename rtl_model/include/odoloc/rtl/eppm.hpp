@@ -150,16 +150,18 @@ class PeriodMeter : public Registers<PeriodMeterRegs> {
     return in.step.is_zero() && !in.tick && (r_.sampled | in.clear_overflow | in.reset).is_zero();
   }
 
-  // Fast-forward: `ticks` reference ticks with no edge, strobe or control.
+  // Fast-forward: clocks >= 1 with no edge or control, `ticks` reference
+  // ticks among them. The last edge's strobe, if set, clears in the first.
   // Per tick the count saturates and a tick at the maximum sets overflow, so
   // overflow is set iff count + ticks exceeds the maximum.
-  // Only those two registers are written: a copy of the whole 13-byte next
+  // Only those registers are written: a copy of the whole 13-byte next
   // state, assembled from narrow stores, stalled on store forwarding.
   void skip_ticks(std::uint64_t ticks) {
     const std::uint64_t total = r_.count.value() + ticks;
     if (total > Ticks::max_value)
       r_.overflow = UInt<1>{1};
     r_.count = Ticks::truncate(std::min<std::uint64_t>(total, Ticks::max_value));
+    r_.sampled = UInt<1>{};
   }
 };
 
@@ -198,17 +200,9 @@ class Eppm {
     return Logic::period_in(w, in, cfg);
   }
 
+  // The quiet clock inline, the full clock out of line (step_all_out_of_line).
   template <Gating G = Gating::kOn, class Order = DeclarationOrder>
   void step(const In& in, const Config& cfg, const Order& order = {}) {
-    if (!step_quiet<G>(in, cfg, order))
-      step_all<G>(in, cfg, order);
-  }
-  // step(), the full clock out of line: for a caller that inlines several
-  // EPPMs into one function (EncoderFabric::step), where four inlined full
-  // paths crowd the quiet paths' registers (the per-clock fabric step was
-  // 10 % slower with them).
-  template <Gating G = Gating::kOn, class Order = DeclarationOrder>
-  void step_compact(const In& in, const Config& cfg, const Order& order = {}) {
     if (!step_quiet<G>(in, cfg, order))
       step_all_out_of_line<G>(in, cfg, order);
   }
@@ -287,7 +281,7 @@ class Eppm {
 
  private:
   // Fast path: a quiet EPPM makes no step, so only the timebase moves, plus
-  // the period meter on a tick. Window ends take the full path: they set a
+  // the period meter on a tick or with its strobe set. Window ends take the full path: they set a
   // strobe that unsettles. (Each block's own eval, never a skip rule: the
   // cycle step is the reference fast-forward is checked against.) Returns
   // whether the clock was quiet (and done).
@@ -337,13 +331,16 @@ class Eppm {
   [[nodiscard]] bool calm(const In& in) const {
     return settled_ && (in.latch_clear | in.reset).is_zero() && !any_set(in.clear);
   }
-  // Every stage holds the same A/B with no filter count, no strobe is pending
-  // and the last clock carried no control: nothing but the timebase can move
-  // until the pins change, a control arrives, a window ends or a tick comes.
+  // Every stage holds the same A/B with no filter count, the pulse meter's
+  // strobe is clear and the last clock carried no control: nothing but the
+  // timebase and the period meter can move until the pins change, a control
+  // arrives, a window ends or a tick comes. The period meter's strobe may be
+  // set (the clock after an edge): the quiet clock clocks that meter by its
+  // own eval and a skip clears it (PeriodMeter::skip_ticks), so an edge
+  // costs one full clock, not two.
   [[nodiscard]] bool settled() const {
     return conditioner_.settled() && conditioner_.regs().filtered == decoder_.regs().prev &&
-           (pulse_.regs().sampled | period_.regs().sampled | ports_.latch_clear | ports_.reset)
-               .is_zero() &&
+           (pulse_.regs().sampled | ports_.latch_clear | ports_.reset).is_zero() &&
            !any_set(ports_.clear);
   }
 

@@ -134,7 +134,7 @@ class OdometryFabric {
   }
   // The EPPMs' inputs: pins, latch-and-clear, and each flag's clear (its own
   // strobe or command.clear_flags).
-  static EncoderFabric::In eppm_inputs(const In& in, UInt<1> latch) {
+  [[gnu::always_inline]] static EncoderFabric::In eppm_inputs(const In& in, UInt<1> latch) {
     const UInt<1> clear_all = in.odometry.command.clear_flags;
     EncoderFabric::In e;
     for (std::size_t w = 0; w < kEncoderCount; ++w) {

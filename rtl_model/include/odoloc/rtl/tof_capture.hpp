@@ -279,7 +279,8 @@ class TofCapture {
     return settled_ && pins(in) == conditioner_.regs().filtered;
   }
   template <Gating G, class Order>
-  [[gnu::noinline]] void step_all(const In& in, const Config& cfg, const Order& order) {
+  [[gnu::noinline, gnu::flatten]] void step_all(const In& in, const Config& cfg,
+                                                const Order& order) {
     const Wires w = wires(cfg);
     ports_ = in;
     [&]<std::size_t... I>(std::index_sequence<I...>) {
