@@ -344,6 +344,20 @@ TEST(CommandOutputs, MergeAndExportFollowLinksAndNeverReplaceThem) {
   EXPECT_TRUE(is_kind(dir / "trees" / "cordic", S_IFLNK));
 }
 
+// The picture `sim --out DIR` delivers is the one `odoloc plot` draws of the
+// log it delivers: its title names DIR/odoloc.lcmlog, not the staging
+// folder the run was written in (a name that no longer exists, and another
+// on every run).
+TEST(CommandOutputs, SimPictureIsThePlotOfItsDeliveredLog) {
+  const fs::path dir = fresh_dir("outputs", "sim_picture");
+  const ChildResult simulated = run_in(dir, {"sim", "--duration", "1", "--out", "run"});
+  ASSERT_EQ(simulated.code, 0) << simulated.err;
+  const ChildResult plotted =
+      run_in(dir, {"plot", (fs::path("run") / "odoloc.lcmlog").string(), "--out", "replot.png"});
+  ASSERT_EQ(plotted.code, 0) << plotted.err;
+  EXPECT_TRUE(slurp(dir / "run" / "localisation.png") == slurp(dir / "replot.png"));
+}
+
 TEST(CommandOutputs, SimDurationZeroIsRefused) {
   const fs::path dir = fresh_dir("outputs", "duration");
   const ChildResult zero = run_in(dir, {"sim", "--duration", "0", "--out", "d"});

@@ -160,8 +160,10 @@ void run_sim(const SimCommand& command, std::ostream& out, bool json,
     throw Interrupted();
   if (!png.empty()) {
     try {
-      plot::draw(plot::read_log(log),
-                 {.png = png, .ellipse_every_s = 1.0, .keep_script = false, .stop = stop});
+      // Titled with the log as delivered, not its staging name.
+      plot::LogSeries series = plot::read_log(log);
+      series.file = dir / "odoloc.lcmlog";
+      plot::draw(series, {.png = png, .ellipse_every_s = 1.0, .keep_script = false, .stop = stop});
     } catch (const plot::PlotError& e) {
       throw FileError(e.what());
     }
