@@ -38,7 +38,7 @@ endif()" COMPONENT host-tool)
 install(FILES docs/host-tool.md docs/simulator.md docs/lcm.md docs/hls.md docs/sweep.md
               docs/spi.md docs/register-map.md
         DESTINATION ${CMAKE_INSTALL_DOCDIR} PERMISSIONS ${odoloc_file_perms} COMPONENT host-tool)
-# examples/: the locate inputs, the sweep specs and the Slurm array template
+# examples/: the scenario files, the locate inputs, the sweep specs and the Slurm array template
 # (kept executable: it is a script users submit).
 install(DIRECTORY examples/ DESTINATION ${CMAKE_INSTALL_DOCDIR}/examples COMPONENT host-tool
         FILE_PERMISSIONS ${odoloc_file_perms} DIRECTORY_PERMISSIONS ${odoloc_dir_perms}

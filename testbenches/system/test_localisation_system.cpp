@@ -69,7 +69,7 @@ double nees(const sim::Frame& f) {
 }
 
 TEST(LocalisationSystem, FusedEstimateBeatsEverySourceOnTheRoomTour) {
-  sim::LocalisationSystem system(world::room_tour(), {});
+  sim::LocalisationSystem system(sim::default_scenario(), {});
   sim::ErrorSink errors(system.tour().drive.start);
   double nees_sum = 0;
   std::size_t nees_n = 0, nees_wild = 0;
@@ -182,7 +182,7 @@ TEST(LocalisationSystem, FusedEstimateBeatsEverySourceOnTheRoomTour) {
 // station alone corrects the odometry: far better than the odometry, within
 // 5 cm of the truth at the end.
 TEST(LocalisationSystem, BaseStationAloneKeepsTheRobotLocalised) {
-  sim::LocalisationSystem system(world::room_tour(), {.fuse_beacon_ranges = false});
+  sim::LocalisationSystem system(sim::default_scenario(), {.fuse_beacon_ranges = false});
   sim::ErrorSink errors(system.tour().drive.start);
   while (!system.done())
     errors.frame(system.step(), system);
@@ -203,7 +203,7 @@ TEST(LocalisationSystem, BaseStationAloneKeepsTheRobotLocalised) {
 // acoustic world's draws, so the fixes.
 TEST(LocalisationSystem, RunsAreReproducible) {
   const auto run = [](std::uint64_t seed) {
-    sim::LocalisationSystem system(world::room_tour(), {.seed = seed, .until_s = 3.0});
+    sim::LocalisationSystem system(sim::default_scenario(), {.seed = seed, .until_s = 3.0});
     std::vector<double> xs;
     while (!system.done()) {
       const sim::Frame f = system.step();

@@ -200,6 +200,9 @@ TEST(SweepSpec, MistakesNameTheFileLineAndKey) {
        "spec.yaml:6: grid: bump_height_m: '.nan' is not a finite number"},
       {with_grid("odometry", "  bump_height_m: [nan]\n"),
        "spec.yaml:6: grid: bump_height_m: 'nan' is not a finite number"},
+      // "+-" is no sign (the layout's and the scenario's rule too).
+      {with_grid("odometry", "  heading_deg: [+-5]\n"),
+       "spec.yaml:6: grid: heading_deg: '+-5' is not a finite number"},
       {with_grid("odometry", "  bump_height_m:\n    - 0.01\n    - -0.01\n"),
        "spec.yaml:8: grid: bump_height_m: -0.01 is outside 0..0.05 (height of every bump, metres "
        "(0.3 m long); 0 removes them)"},

@@ -19,21 +19,31 @@ loc::BeaconLayout beacon_layout(const world::AcousticWorld& world, std::size_t c
   return layout;
 }
 
-sw::tof::KleemanConfig kleeman_config(const world::AcousticWorld& world,
-                                      const world::KleemanTiming& timing) {
+sw::tof::KleemanConfig kleeman_config(const world::KleemanTiming& timing,
+                                      std::span<const world::Vec2> beacons, double envelope_tau_s,
+                                      double speed_of_sound_mps) {
   sw::tof::KleemanConfig config;
   config.schedule.beacons = static_cast<int>(timing.beacon_count);
   config.schedule.fire_period_s = timing.fire_s();
   config.schedule.pulse_s = timing.pulse_s;
   config.schedule.double_spacing_s = timing.double_pulse_s;
   config.schedule.reserved_slots = static_cast<int>(timing.reserved_slots);
-  config.envelope.rise_s = world.beacons.at(0).envelope_tau_s;
-  config.envelope.fall_s = world.beacons.at(0).envelope_tau_s;
+  config.envelope.rise_s = envelope_tau_s;
+  config.envelope.fall_s = envelope_tau_s;
   config.envelope.burst_s = timing.pulse_s;
-  config.speed_of_sound_mps = world.air.speed_of_sound_mps();
-  for (const loc::Beacon& b : beacon_layout(world, timing.beacon_count).beacons)
-    config.beacon_positions.push_back(b.position_m);
+  config.speed_of_sound_mps = speed_of_sound_mps;
+  for (const world::Vec2& b : beacons.first(std::min(timing.beacon_count, beacons.size())))
+    config.beacon_positions.push_back({b.x_m, b.y_m});
   return config;
+}
+
+sw::tof::KleemanConfig kleeman_config(const world::AcousticWorld& world,
+                                      const world::KleemanTiming& timing) {
+  std::vector<world::Vec2> positions;
+  for (const world::Beacon& b : world.beacons)
+    positions.push_back(b.position);
+  return kleeman_config(timing, positions, world.beacons.at(0).envelope_tau_s,
+                        world.air.speed_of_sound_mps());
 }
 
 MeasuredCycle measure_kleeman_cycle(const world::AcousticWorld& world, const world::Pose& pose,

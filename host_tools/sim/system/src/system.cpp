@@ -48,11 +48,14 @@ world::Trajectory prepass(const world::Scenario& drive, double end_s,
   return world::interpolate(std::move(samples));
 }
 
-// What the SoC software is told about the world: the vehicle's nominal
-// geometry, the beacons' surveyed positions and timing, the receivers, the
-// air's speed of sound (a thermometer's), and the capture chain's residual
-// error with the air's turbulence (path jitter x c, added to 1 mm).
-sw::LocaliserConfig soc_config(const world::RoomTour& tour, const SystemOptions& options) {
+// What the SoC software is told about the world (the scenario's survey,
+// docs/scenarios.md): the vehicle's nominal geometry, the start mark, the
+// capture channels wired, the beacons' surveyed positions and the
+// controller's timing, the air's speed of sound (a thermometer's), and the
+// capture chain's residual error with the turbulence as calibrated (path
+// jitter x c, added to 1 mm).
+sw::LocaliserConfig soc_config(const world::RoomTour& tour, const Survey& survey,
+                               const SystemOptions& options) {
   sw::LocaliserConfig c;
   c.fuse_beacon_ranges = options.fuse_beacon_ranges;
   c.vehicle = board::nominal_geometry(tour.drive.geometry);
@@ -60,27 +63,30 @@ sw::LocaliserConfig soc_config(const world::RoomTour& tour, const SystemOptions&
   c.start_pose = {tour.drive.start.x_m, tour.drive.start.y_m, tour.drive.start.theta_rad};
   for (std::size_t i = 0; i < tour.acoustics.receivers.size(); ++i)
     c.capture.channels.at(i).enabled = true;
-  const world::AcousticWorld& w = tour.acoustics;
-  c.kleeman = board::kleeman_config(w, tour.timing);
-  c.kleeman.timing_sd_s = std::hypot(w.noise.path_jitter_sd_s, w.noise.receiver_jitter_sd_s);
-  c.layout = board::beacon_layout(w, tour.timing.beacon_count);
+  const double speed_of_sound_mps =
+      world::Air{.temperature_c = survey.temperature_c}.speed_of_sound_mps();
+  c.kleeman =
+      board::kleeman_config(tour.timing, survey.beacons, survey.envelope_tau_s, speed_of_sound_mps);
+  c.kleeman.timing_sd_s = std::hypot(survey.path_jitter_s, survey.receiver_jitter_s);
+  for (const world::Vec2& b : survey.beacons)
+    c.layout.beacons.push_back({{b.x_m, b.y_m}, survey.beacon_height_m});
   c.ekf.history_s = 3.0;
   c.ekf.odometry.along_sd_per_sqrt_m = 0.003;
   c.ekf.odometry.across_sd_per_sqrt_m = 0.001;
   c.ekf.odometry.heading_sd_per_sqrt_m = 0.001;
   c.ekf.odometry.heading_sd_per_sqrt_rad = 0.005;
-  const double turbulence_m = w.noise.path_jitter_sd_s * w.air.speed_of_sound_mps();
+  const double turbulence_m = survey.path_jitter_s * speed_of_sound_mps;
   c.chain_sd_m = std::hypot(0.001, turbulence_m);
-  if (tour.station) {
+  if (survey.station && tour.station) {
     // Surveyed and calibrated: the station's place, its t0, the lasers'
-    // encoder indices.
-    const world::BaseStation& st = *tour.station;
+    // encoder indices (and their encoders' counts, the devices' data).
+    const Survey::Station& st = *survey.station;
     sw::station::StationConfig& sc = c.station.emplace();
     sc.position_m = {st.position.x_m, st.position.y_m};
-    sc.height_m = w.height_m;
-    sc.t0_s = w.beacons.at(st.transmitter).electronics_delay_s;
-    sc.station_laser = {st.station_laser.sweep_start_rad, st.station_laser.counts_per_rev};
-    sc.robot_laser = {st.robot_laser.sweep_start_rad, st.robot_laser.counts_per_rev};
+    sc.height_m = survey.beacon_height_m;
+    sc.t0_s = st.t0_s;
+    sc.station_laser = {st.station_laser_start_rad, tour.station->station_laser.counts_per_rev};
+    sc.robot_laser = {st.robot_laser_start_rad, tour.station->robot_laser.counts_per_rev};
     sc.chain_sd_m = c.chain_sd_m;
     c.capture.sync_enable = true;
   }
@@ -123,7 +129,7 @@ class StationRadio final : public sw::station::Link {
 // The chip and everything on its pins, in construction order.
 class LocalisationSystem::Chip {
  public:
-  Chip(const world::RoomTour& tour, const world::Trajectory& trajectory,
+  Chip(const world::RoomTour& tour, const Survey& survey, const world::Trajectory& trajectory,
        const world::StationPlan& plan, const SystemOptions& options)
       : acoustic_run_(world::simulate(tour.acoustics, tour.schedule(plan), trajectory,
                                       tour.duration_s, options.seed)),
@@ -134,8 +140,8 @@ class LocalisationSystem::Chip {
         link_({.half_period = 4}, stimulus_),
         bus_(link_, {.crc = true, .confirm_writes = true}),
         radio_(plan.reports),
-        localiser_((link_.set_cycle_step(options.cycle_step), bus_), soc_config(tour, options),
-                   &radio_) {}
+        localiser_((link_.set_cycle_step(options.cycle_step), bus_),
+                   soc_config(tour, survey, options), &radio_) {}
 
   world::AcousticRun acoustic_run_;
   world::TricycleSimulator truth_;
@@ -147,8 +153,8 @@ class LocalisationSystem::Chip {
   sw::Localiser localiser_;
 };
 
-LocalisationSystem::LocalisationSystem(world::RoomTour tour, const SystemOptions& options)
-    : tour_(std::move(tour)), options_(options) {
+LocalisationSystem::LocalisationSystem(Scenario scenario, const SystemOptions& options)
+    : tour_(std::move(scenario.tour)), survey_(std::move(scenario.survey)), options_(options) {
   if (options_.until_s < 0 || !std::isfinite(options_.until_s))
     throw std::invalid_argument("until_s must be >= 0 s");
   if (options_.until_s > 0 && options_.until_s < tour_.duration_s) {
@@ -174,7 +180,7 @@ LocalisationSystem::LocalisationSystem(world::RoomTour tour, const SystemOptions
   check_stop(options_.stop);
   const auto plan = tour_.station_plan(trajectory_);
   check_stop(options_.stop);
-  chip_ = std::make_unique<Chip>(tour_, trajectory_, plan, options_);
+  chip_ = std::make_unique<Chip>(tour_, survey_, trajectory_, plan, options_);
 }
 
 LocalisationSystem::~LocalisationSystem() = default;

@@ -19,6 +19,7 @@
 #include "odoloc/cli/locate_input.hpp"
 #include "odoloc/cli/values.hpp"
 #include "odoloc/hls_export/kernels.hpp"
+#include "odoloc/yaml/reader.hpp"
 
 namespace odoloc::cli {
 namespace {
@@ -196,7 +197,7 @@ CLI::App* group(CLI::App& app, const std::string& name, const std::string& descr
 }
 
 double real_option(const std::string& text, std::string_view option) {
-  const std::optional<double> value = parse_real(text);
+  const std::optional<double> value = yaml::finite_number(text);
   if (!value)
     throw UsageError(fmt::format("{}: '{}' is not a number", option, text));
   return *value;
@@ -463,12 +464,18 @@ Registered add_sim(CLI::App& app) {
   return subcommand<SimOptions>(
       app, "sim",
       "the whole localisation system (world, chip at the pin level, SoC software over the "
-      "register bus) on its room tour: LCM, CSV, plot and the table of errors (no target; "
-      "docs/simulator.md)",
+      "register bus) in a scenario (default: the room tour): LCM, CSV, plot and the table of "
+      "errors (no target; docs/simulator.md)",
       [](CLI::App& c, SimOptions& o) {
-        c.add_option("--laps", o.laps, "laps of the 6 m square (default 2)")->type_name("N");
-        c.add_option("--speed", o.speed, "m/s (default 0.5)")->type_name("M/S");
-        c.add_option("--seed", o.seed, "the acoustic world's random draws (default 1)")
+        c.add_option("--scenario", o.command.scenario,
+                     "a scenario file (docs/scenarios.md) or a built-in one's name (default "
+                     "room-tour.yaml)")
+            ->type_name("FILE");
+        c.add_option("--laps", o.laps, "the path's laps (the scenario's; the room tour: 2)")
+            ->type_name("N");
+        c.add_option("--speed", o.speed, "a square path's speed, m/s (the room tour: 0.5)")
+            ->type_name("M/S");
+        c.add_option("--seed", o.seed, "the acoustic world's random draws (the scenario's)")
             ->type_name("N");
         c.add_option("--duration", o.duration,
                      "stop after this much simulated time (default: the whole tour)")

@@ -18,6 +18,7 @@
 #include "odoloc/process/gnuplot.hpp"
 #include "odoloc/sw/kleeman_solver.hpp"
 #include "odoloc/sw/multilateration.hpp"
+#include "odoloc/yaml/reader.hpp"
 
 namespace odoloc::cli {
 namespace {
@@ -221,7 +222,7 @@ LocateSolver parse_solver(std::string_view name) {
 }
 
 double parse_temperature(std::string_view text) {
-  const std::optional<double> t = parse_real(text);
+  const std::optional<double> t = yaml::finite_number(text);
   if (!t || !(*t >= loc::kMinTemperatureC && *t <= loc::kMaxTemperatureC))
     throw UsageError(
         fmt::format("--temperature: '{}' is not a temperature within {}..{} degrees Celsius", text,

@@ -18,7 +18,7 @@
 #include "odoloc/cli/errors.hpp"
 #include "odoloc/output/printable.hpp"
 #include "odoloc/sw/multilateration.hpp"
-#include "odoloc/yaml/one_document.hpp"
+#include "odoloc/yaml/reader.hpp"
 
 namespace odoloc::cli {
 namespace {
@@ -58,80 +58,26 @@ std::string known_ids(const LocateLayout& layout) {
 
 // ------------------------------------------------------------------ layout
 
-class LayoutReader {
- public:
-  explicit LayoutReader(std::string_view name) : name_(name) {}
-
-  [[noreturn]] void fail(const YAML::Node& at, std::string_view what) const {
-    const YAML::Mark mark = at.Mark();
-    if (mark.is_null())
-      throw UsageError(fmt::format("{}: {}", name_, what));
-    fail_at(name_, static_cast<std::size_t>(mark.line) + 1, what);
-  }
-
-  static std::size_t line(const YAML::Node& n) {
-    return static_cast<std::size_t>(n.Mark().line) + 1;
-  }
-
-  void check_keys(const YAML::Node& map, std::initializer_list<std::string_view> known,
-                  std::string_view where) const {
-    if (!map.IsMap())
-      fail(map, fmt::format("{}: expected a mapping of {}", where, fmt::join(known, ", ")));
-    std::vector<std::string> seen;
-    for (const auto& kv : map) {
-      const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : std::string{};
-      if (std::ranges::find(known, key) == known.end())
-        fail(kv.first, fmt::format("{}: unknown key '{}' (known: {})", where,
-                                   output::printable_excerpt(key), fmt::join(known, ", ")));
-      if (std::ranges::find(seen, key) != seen.end())
-        fail(kv.first, fmt::format("{}: '{}' given twice", where, output::printable_excerpt(key)));
-      seen.push_back(key);
-    }
-  }
-
-  [[nodiscard]] double number(const YAML::Node& value, std::string_view key,
-                              std::string_view where) const {
-    const std::optional<double> v =
-        value.IsScalar() ? parse_real(value.Scalar()) : std::optional<double>{};
-    if (!v)
-      fail(value, fmt::format("{}: {} must be a finite number, not '{}'", where, key,
-                              value.IsScalar() ? output::printable_excerpt(value.Scalar())
-                                               : "a list or mapping"));
-    return *v;
-  }
-
-  [[nodiscard]] double required(const YAML::Node& map, const char* key,
-                                std::string_view where) const {
-    const YAML::Node value = map[key];
-    if (!value)
-      fail(map, fmt::format("{}: missing '{}'", where, key));
-    return number(value, key, where);
-  }
-
- private:
-  std::string_view name_;
-};
-
 constexpr std::size_t kMinBeacons = 3;   // no solver fixes with fewer
 constexpr std::size_t kMaxBeacons = 64;  // BeaconLayout::validate
 constexpr double kSamePlaceM = 1e-3;     // BeaconLayout::validate
 
-LocateLayout parse_layout_checked(std::string_view yaml, std::string_view name) {
-  const LayoutReader r(name);
-  const YAML::Node root = yaml::load_one_document(std::string{yaml});
+LocateLayout parse_layout_checked(std::string_view text, std::string_view name) {
+  const yaml::Reader r(name);
+  const YAML::Node root = r.load(std::string{text});
   if (!root.IsMap())
     r.fail(root,
            "a layout is a YAML mapping with 'beacons' (and optionally 'speed_of_sound', "
            "'temperature')");
-  r.check_keys(root, {"beacons", "speed_of_sound", "temperature"}, "layout");
+  r.check_keys(root, "layout", {"beacons", "speed_of_sound", "temperature"});
   LocateLayout out;
   if (const YAML::Node c = root["speed_of_sound"]) {
-    out.speed_of_sound_mps = r.number(c, "speed_of_sound", "layout");
+    out.speed_of_sound_mps = r.number(c, "layout: speed_of_sound");
     if (!(out.speed_of_sound_mps >= 100 && out.speed_of_sound_mps <= 2000))
       r.fail(c, "layout: speed_of_sound must be within 100..2000 m/s (air: 331.3 + 0.6 T)");
   }
   if (const YAML::Node t = root["temperature"]) {
-    out.temperature_c = r.number(t, "temperature", "layout");
+    out.temperature_c = r.number(t, "layout: temperature");
     if (!(*out.temperature_c >= sw::locate::kMinTemperatureC &&
           *out.temperature_c <= sw::locate::kMaxTemperatureC))
       r.fail(t, fmt::format("layout: temperature must be within {}..{} degrees Celsius",
@@ -148,7 +94,7 @@ LocateLayout parse_layout_checked(std::string_view yaml, std::string_view name) 
   std::vector<std::size_t> lines;
   for (std::size_t i = 0; i < beacons.size(); ++i) {
     const YAML::Node b = beacons[i];
-    r.check_keys(b, {"id", "x", "y", "height"}, fmt::format("beacons[{}]", i));
+    r.check_keys(b, fmt::format("beacons[{}]", i), {"id", "x", "y", "height"});
     std::string id = std::to_string(i);
     if (const YAML::Node n = b["id"]) {
       id = n.IsScalar() ? n.Scalar() : std::string{};
@@ -160,9 +106,12 @@ LocateLayout parse_layout_checked(std::string_view yaml, std::string_view name) 
     if (const auto first = std::ranges::find(out.ids, id); first != out.ids.end())
       r.fail(b, fmt::format("{} given twice (first on line {})", where,
                             lines[static_cast<std::size_t>(first - out.ids.begin())]));
-    sw::locate::Beacon beacon{{r.required(b, "x", where), r.required(b, "y", where)}};
+    const auto coordinate = [&](const char* key) {
+      return r.number(r.required(b, key, where), fmt::format("{}: {}", where, key));
+    };
+    sw::locate::Beacon beacon{{coordinate("x"), coordinate("y")}};
     if (const YAML::Node h = b["height"])
-      beacon.height_m = r.number(h, "height", where);
+      beacon.height_m = r.number(h, fmt::format("{}: height", where));
     for (std::size_t j = 0; j < i; ++j) {
       const sw::locate::Vec2 q = out.layout.beacons[j].position_m;
       if (std::hypot(beacon.position_m.x - q.x, beacon.position_m.y - q.y) < kSamePlaceM)
@@ -171,7 +120,7 @@ LocateLayout parse_layout_checked(std::string_view yaml, std::string_view name) 
     }
     out.layout.beacons.push_back(beacon);
     out.ids.push_back(std::move(id));
-    lines.push_back(LayoutReader::line(b));
+    lines.push_back(static_cast<std::size_t>(b.Mark().line) + 1);
   }
   return out;
 }
@@ -315,7 +264,7 @@ std::vector<ArrivalCycle> parse_arrivals(std::string_view csv, std::string_view 
     RangeCandidate range;
     range.sd_m = kDefaultSdM;
     if (!value.empty() && !is_nan_text(value)) {
-      const std::optional<double> v = parse_real(value);
+      const std::optional<double> v = yaml::finite_number(value);
       if (!v)
         fail_at(name, line,
                 fmt::format("{} '{}' is not a number (empty or nan: no measurement)", column,
@@ -329,7 +278,7 @@ std::vector<ArrivalCycle> parse_arrivals(std::string_view csv, std::string_view 
     const std::string_view sd_column = times ? "sd_s" : "sd_m";
     if (const std::string_view sd = field(times ? Column::kSdS : Column::kSdM);
         !sd.empty() && !is_nan_text(sd)) {
-      const std::optional<double> v = parse_real(sd);
+      const std::optional<double> v = yaml::finite_number(sd);
       if (!v || *v < 0)
         fail_at(name, line,
                 fmt::format("{} '{}' is not a deviation: a finite number >= 0 (empty or nan: "
@@ -404,16 +353,6 @@ std::vector<std::string_view> split_fields(std::string_view text, char separator
   }
 }
 
-std::optional<double> parse_real(std::string_view text) {
-  if (text.starts_with('+') && !text.substr(1).starts_with('-'))
-    text.remove_prefix(1);
-  double value = 0;
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (ec != std::errc{} || end != text.data() + text.size() || !std::isfinite(value))
-    return std::nullopt;
-  return value;
-}
-
 std::optional<int> LocateLayout::find(std::string_view id) const {
   const auto it = std::ranges::find(ids, id);
   if (it == ids.end())
@@ -424,12 +363,8 @@ std::optional<int> LocateLayout::find(std::string_view id) const {
 LocateLayout parse_layout(std::string_view yaml, std::string_view name) {
   try {
     return parse_layout_checked(yaml, name);
-  } catch (const YAML::Exception& e) {  // syntax, nesting too deep, ...
-    // Some of yaml-cpp's messages end with the offending character.
-    const std::string message = fmt::format("YAML: {}", output::printable_excerpt(e.msg, 200));
-    if (e.mark.is_null())
-      throw UsageError(fmt::format("{}: {}", name, message));
-    fail_at(name, static_cast<std::size_t>(e.mark.line) + 1, message);
+  } catch (const yaml::InputError& e) {
+    throw UsageError(e.what());
   }
 }
 

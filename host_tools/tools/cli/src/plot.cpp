@@ -12,6 +12,7 @@
 #include "odoloc/output/printable.hpp"
 #include "odoloc/plot/log_plot.hpp"
 #include "odoloc/plot/log_series.hpp"
+#include "odoloc/yaml/reader.hpp"
 
 namespace odoloc::cli {
 namespace {
@@ -43,7 +44,7 @@ nlohmann::json summary_json(const plot::LogSeries& series) {
 }  // namespace
 
 double parse_ellipse_every(std::string_view text) {
-  const std::optional<double> seconds = parse_real(text);
+  const std::optional<double> seconds = yaml::finite_number(text);
   if (!seconds || *seconds <= 0)
     throw UsageError(
         fmt::format("--ellipse-every: '{}' is not a positive number of seconds", text));

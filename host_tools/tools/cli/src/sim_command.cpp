@@ -11,6 +11,7 @@
 #include <optional>
 #include <ostream>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "odoloc/cli/errors.hpp"
@@ -21,6 +22,8 @@
 #include "odoloc/plot/log_plot.hpp"
 #include "odoloc/plot/log_series.hpp"
 #include "odoloc/sim/runner.hpp"
+#include "odoloc/sim/scenario_file.hpp"
+#include "odoloc/yaml/reader.hpp"
 
 namespace odoloc::cli {
 
@@ -69,10 +72,18 @@ nlohmann::json updates_json(const sw::fuse::PoseEkf& filter) {
 void run_sim(const SimCommand& command, std::ostream& out, bool json,
              const std::atomic<bool>* stop) {
   const auto started = std::chrono::steady_clock::now();
-  if (command.laps < 1 || command.laps > 100)
-    throw UsageError("--laps must be 1 to 100");
-  if (!(command.speed_mps > 0 && command.speed_mps <= 1.5))
-    throw UsageError("--speed must be in (0, 1.5] m/s");
+  // A file, else a built-in scenario's name; the room tour by default.
+  const sim::ScenarioOverrides overrides{.laps = command.laps, .speed_mps = command.speed_mps};
+  sim::Scenario scenario = translated<yaml::InputError>([&] {
+    if (command.scenario.empty())
+      return sim::default_scenario(overrides);
+    if (std::filesystem::exists(command.scenario) || !sim::find_builtin_scenario(command.scenario))
+      return sim::load_scenario(command.scenario, overrides);
+    const sim::BuiltinScenario& builtin = *sim::find_builtin_scenario(command.scenario);
+    return sim::parse_scenario(std::string(builtin.text), fmt::format("{} (built in)", builtin.key),
+                               overrides);
+  });
+  const std::uint64_t seed = command.seed.value_or(scenario.seed);
   if (command.duration_s && !(*command.duration_s > 0 && *command.duration_s <= 1e4))
     throw UsageError("--duration must be more than 0 and at most 10000 s");
   // With --out every file is made in a staging folder in DIR and delivered
@@ -110,8 +121,8 @@ void run_sim(const SimCommand& command, std::ostream& out, bool json,
   // Opened before the minute of simulation: a bad URL fails at once.
   std::unique_ptr<lcm::Connection> live = live_url.empty() ? nullptr : open_lcm(live_url);
 
-  sim::LocalisationSystem system(world::room_tour(command.laps, command.speed_mps),
-                                 {.seed = command.seed,
+  sim::LocalisationSystem system(std::move(scenario),
+                                 {.seed = seed,
                                   .step_s = 0.01,
                                   .cycle_step = command.cycle_step,
                                   .encoder_period_s = 0.1,
@@ -121,7 +132,7 @@ void run_sim(const SimCommand& command, std::ostream& out, bool json,
   const world::RoomTour& tour = system.tour();
   if (!json)
     out << fmt::format("odoloc sim: {}, {:.1f} s to simulate, seed {}{}\n", tour.name,
-                       tour.duration_s, command.seed,
+                       tour.duration_s, seed,
                        live ? fmt::format("; publishing on {}", live_url) : std::string())
         << std::flush;
   sim::Runner runner(system, {.realtime = command.realtime, .allow_write = command.allow_write});

@@ -4,8 +4,8 @@
 
 #include <optional>
 
-#include "decimal.hpp"
 #include "odoloc/sweep/error.hpp"
+#include "odoloc/yaml/reader.hpp"
 
 namespace odoloc::sweep {
 
@@ -16,8 +16,8 @@ Shard parse_shard(std::string_view text) {
   const std::size_t slash = text.find('/');
   if (slash == std::string_view::npos)
     fail("expected K/N, shard K of N (e.g. 2/4)");
-  const std::optional<std::uint64_t> k = whole_number(text.substr(0, slash));
-  const std::optional<std::uint64_t> n = whole_number(text.substr(slash + 1));
+  const std::optional<std::uint64_t> k = yaml::whole_number(text.substr(0, slash));
+  const std::optional<std::uint64_t> n = yaml::whole_number(text.substr(slash + 1));
   if (!k || !n)
     fail("K and N are whole numbers (e.g. 2/4)");
   if (*n < 1 || *n > kMaxShards)

@@ -10,10 +10,10 @@
 #include <fstream>
 #include <sstream>
 
-#include "decimal.hpp"
 #include "odoloc/output/printable.hpp"
 #include "odoloc/sweep/error.hpp"
 #include "odoloc/yaml/one_document.hpp"
+#include "odoloc/yaml/reader.hpp"
 
 namespace odoloc::sweep {
 namespace {
@@ -45,17 +45,6 @@ bool is_sweep_name(std::string_view name) {
   return !name.empty() && name.size() <= kMaxNameLength && std::ranges::all_of(name, [](char c) {
     return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '-' || c == '.';
   });
-}
-
-std::optional<double> finite_number(std::string_view text) {
-  if (text.starts_with('+'))
-    text.remove_prefix(1);
-  double value = 0;
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (text.empty() || ec != std::errc{} || end != text.data() + text.size() ||
-      !std::isfinite(value))
-    return std::nullopt;
-  return value;
 }
 
 // The problem with one value of a parameter, or an empty string.
@@ -121,7 +110,7 @@ class Reader {
   [[nodiscard]] std::uint64_t whole(const YAML::Node& node, std::string_view key,
                                     std::uint64_t least) const {
     const std::string text = scalar(node, key);
-    const std::optional<std::uint64_t> v = whole_number(text);
+    const std::optional<std::uint64_t> v = yaml::whole_number(text);
     if (!v || *v < least)
       fail(node, fmt::format("{}: '{}' is not a whole number from {} to 2^64 - 1", key,
                              output::printable_excerpt(text), least));
@@ -133,7 +122,7 @@ class Reader {
     const std::string text = scalar(node, where);
     Value v = text;
     if (!p.is_choice()) {
-      if (const std::optional<double> number = finite_number(text))
+      if (const std::optional<double> number = yaml::finite_number(text))
         v = *number;
     }
     if (const std::string problem = check_value(p, v); !problem.empty())

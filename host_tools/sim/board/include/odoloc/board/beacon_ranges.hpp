@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <vector>
 
 #include "odoloc/sw/beacon_cycle.hpp"
@@ -36,6 +37,12 @@ sw::locate::BeaconLayout beacon_layout(const world::AcousticWorld& world,
 // caller's.
 sw::tof::KleemanConfig kleeman_config(const world::AcousticWorld& world,
                                       const world::KleemanTiming& timing);
+// The same from what a robot is told: the beacons' surveyed positions (the
+// timing's beacon_count of them), the calibrated envelope time constant and
+// a speed of sound (a thermometer's).
+sw::tof::KleemanConfig kleeman_config(const world::KleemanTiming& timing,
+                                      std::span<const world::Vec2> beacons, double envelope_tau_s,
+                                      double speed_of_sound_mps);
 
 struct MeasuredCycle {
   sw::locate::RangeSet ranges;      // one BeaconRange per beacon of the world

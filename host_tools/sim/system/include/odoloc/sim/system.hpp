@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "odoloc/board/scenario_runner.hpp"
+#include "odoloc/sim/scenario_file.hpp"
 #include "odoloc/sw/localiser.hpp"
 #include "odoloc/sw/register_bus.hpp"
 #include "odoloc/world/room_tour.hpp"
@@ -27,8 +28,9 @@
 namespace odoloc::sim {
 
 struct SystemOptions {
-  std::uint64_t seed = 1;   // the acoustic world's random draws
-  double step_s = 0.01;     // the SoC loop's period (simulated seconds)
+  std::uint64_t seed =
+      1;                 // the acoustic world's random draws (the scenario's: the caller's choice)
+  double step_s = 0.01;  // the SoC loop's period (simulated seconds)
   bool cycle_step = false;  // step every fabric clock (bit-identical, slower)
   // The encoder modules are read for LCM (ODOLOC_ENCODERS) this often; the
   // localisation does not need them (the fabric integrates the odometry).
@@ -66,9 +68,10 @@ class LocalisationSystem {
   // Runs the world's pre-pass (the tricycle's trajectory for the acoustic
   // world, then every arrival of every beacon burst), starts the rear-only
   // and front-only reference runs in the background, and brings the SoC
-  // software up over the bus. Throws what the world and the SoC software
-  // throw for a bad set-up.
-  LocalisationSystem(world::RoomTour tour, const SystemOptions& options);
+  // software up over the bus, configured from the scenario's survey (never
+  // from its truth). Throws what the world and the SoC software throw for a
+  // bad set-up.
+  LocalisationSystem(Scenario scenario, const SystemOptions& options);
   LocalisationSystem(const LocalisationSystem&) = delete;
   LocalisationSystem& operator=(const LocalisationSystem&) = delete;
   ~LocalisationSystem();
@@ -105,6 +108,7 @@ class LocalisationSystem {
   class Chip;
   static std::array<EncoderRead, 4> read_encoders(sw::RegisterBus& bus);
   world::RoomTour tour_;
+  Survey survey_;
   SystemOptions options_;
   world::Trajectory trajectory_;
   std::unique_ptr<Chip> chip_;

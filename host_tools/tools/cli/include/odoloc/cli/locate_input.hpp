@@ -45,10 +45,6 @@ struct ArrivalCycle {
 [[nodiscard]] std::vector<std::string_view> split_fields(std::string_view text,
                                                          char separator = ',');
 
-// A finite decimal ("2.5", "-1e-3", "+4"), as the files and the options
-// take numbers; nullopt for anything else, nan and inf included.
-[[nodiscard]] std::optional<double> parse_real(std::string_view text);
-
 // `name` prefixes the messages (the file's path).
 [[nodiscard]] LocateLayout parse_layout(std::string_view yaml, std::string_view name);
 // Cycles in ascending order. Times are converted with the layout's speed of

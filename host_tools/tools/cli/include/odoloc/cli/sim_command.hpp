@@ -16,9 +16,12 @@
 namespace odoloc::cli {
 
 struct SimCommand {
-  std::size_t laps = 2;
-  double speed_mps = 0.5;
-  std::uint64_t seed = 1;
+  // A scenario file (docs/scenarios.md) or the name of a built-in one
+  // (examples/scenarios/); empty: the main job's, room-tour.yaml.
+  std::string scenario;
+  std::optional<std::size_t> laps;    // the path's laps, for the scenario's
+  std::optional<double> speed_mps;    // a square path's speed, for the scenario's
+  std::optional<std::uint64_t> seed;  // for the scenario's
   // Given: stop after this much simulated time, (0, 10000] s (the table
   // then covers it); none: the whole tour.
   std::optional<double> duration_s;

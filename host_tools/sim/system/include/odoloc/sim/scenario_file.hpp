@@ -1,0 +1,77 @@
+// Scenario files (docs/scenarios.md): the world of `odoloc sim` described
+// in YAML, field by field: the room and its obstacles, the air, the noise,
+// Kleeman's beacons, Liu's base station, the robot and its receivers, the
+// path, the disturbances, and the survey (what the SoC software is told:
+// the facts a real robot is given, never the truth). The main job's room
+// tour is examples/scenarios/room-tour.yaml, built in (default_scenario).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "odoloc/world/room_tour.hpp"
+#include "odoloc/yaml/reader.hpp"
+
+namespace odoloc::sim {
+
+// What the SoC software is told about the world: surveyed positions, the
+// calibrated transmitters and turbulence, a thermometer's temperature.
+struct Survey {
+  std::vector<world::Vec2> beacons;  // Kleeman's, in firing order, world frame (m)
+  double beacon_height_m = 0;        // above the receivers' plane
+  double temperature_c = 20;         // the speed of sound follows it (world::Air)
+  double envelope_tau_s = 0.5e-3;    // the transmitters' envelope time constant
+  double path_jitter_s = 0;          // turbulence as calibrated: per path and per receiver
+  double receiver_jitter_s = 0;
+  struct Station {
+    world::Vec2 position;
+    double t0_s = 0;                     // trigger to sound
+    double station_laser_start_rad = 0;  // the lasers' encoder indices
+    double robot_laser_start_rad = 0;
+  };
+  std::optional<Station> station;
+};
+
+struct Scenario {
+  world::RoomTour tour;  // the truth: what the world simulates
+  Survey survey;         // what the SoC software is configured from
+  std::uint64_t seed = 1;
+};
+
+// Command-line changes to a file's path (`odoloc sim --laps --speed`).
+struct ScenarioOverrides {
+  std::optional<std::size_t> laps{};  // the path's laps (a path with laps)
+  std::optional<double> speed_mps{};  // a square path's speed
+};
+
+// The scenario in `text`, named `file` in every error. Throws
+// yaml::InputError ("FILE:LINE: what") for YAML that is not a scenario: an
+// unknown or repeated key, a missing one, a value that is not a finite
+// number or is out of its range, a beacon or the start outside the room,
+// fewer than 3 beacons, a survey whose beacons do not match, an override
+// the path does not have.
+[[nodiscard]] Scenario parse_scenario(const std::string& text, std::string_view file,
+                                      const ScenarioOverrides& overrides = {});
+// The file at `path` (InputError also when it cannot be read).
+[[nodiscard]] Scenario load_scenario(const std::filesystem::path& path,
+                                     const ScenarioOverrides& overrides = {});
+// The scenario files of examples/scenarios/, built into the program
+// (cmake/EmbedFiles.cmake), keyed by their file names ("room-tour.yaml").
+struct BuiltinScenario {
+  std::string_view key;
+  std::string_view text;
+};
+[[nodiscard]] std::span<const BuiltinScenario> builtin_scenarios();
+// The built-in file `key`; nullptr for none.
+[[nodiscard]] const BuiltinScenario* find_builtin_scenario(std::string_view key);
+// room-tour.yaml: the main job.
+inline constexpr std::string_view kDefaultScenario = "room-tour.yaml";
+[[nodiscard]] Scenario default_scenario(const ScenarioOverrides& overrides = {});
+
+}  // namespace odoloc::sim

@@ -1,0 +1,560 @@
+#include "odoloc/sim/scenario_file.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+#include "odoloc/output/printable.hpp"
+
+namespace odoloc::sim {
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr double kBig = 1e6;  // metres, seconds, volts: any sane value is far inside
+
+using world::Vec2;
+using world::Wheel;
+using YAML::Node;
+
+// How long a path takes: each segment's distance over its speed, its
+// duration, or its steering move at the path's rate (the steering starts
+// straight and carries over).
+double path_seconds(const world::Path& path) {
+  double seconds = 0;
+  double steer = 0;
+  for (const world::Segment& s : path.segments) {
+    switch (s.end) {
+      case world::Segment::End::kDistance:
+        seconds += s.amount / std::abs(s.speed_mps);
+        break;
+      case world::Segment::End::kDuration:
+        seconds += s.amount;
+        break;
+      case world::Segment::End::kSteered:
+        seconds += std::abs(s.steer_rad - steer) / path.steer_rate_radps;
+        break;
+    }
+    if (s.end == world::Segment::End::kSteered)
+      steer = s.steer_rad;
+  }
+  return seconds;
+}
+
+// The rear-midpoint odometer of a path's segments (m).
+double path_metres(const world::Path& path) {
+  double metres = 0;
+  for (const world::Segment& s : path.segments) {
+    if (s.end == world::Segment::End::kDistance)
+      metres += s.amount;
+    else if (s.end == world::Segment::End::kDuration)
+      metres += std::abs(s.speed_mps) * s.amount;
+  }
+  return metres;
+}
+
+class ScenarioReader {
+ public:
+  ScenarioReader(std::string_view file, const ScenarioOverrides& overrides)
+      : r_(file), overrides_(overrides) {}
+
+  Scenario read(const std::string& text) {
+    const Node root = r_.load(text);
+    if (!root.IsMap())
+      r_.fail(root, "a scenario is a YAML mapping (docs/scenarios.md)");
+    r_.check_keys(root, "scenario",
+                  {"name", "seed", "room", "air", "noise", "beacons", "station", "robot", "path",
+                   "disturbances", "survey"});
+    Scenario s;
+    world::RoomTour& tour = s.tour;
+    const std::string name = r_.scalar(r_.required(root, "name", "scenario"), "name");
+    if (const Node seed = root["seed"])
+      s.seed = r_.whole(seed, "seed");
+    world::AcousticWorld& w = tour.acoustics;
+    if (const Node room = root["room"])
+      read_room(room, w);
+    if (const Node air = root["air"])
+      read_air(air, w.air);
+    if (const Node noise = root["noise"])
+      read_noise(noise, w.noise);
+    read_beacons(r_.required(root, "beacons", "scenario"), tour);
+    read_robot(r_.required(root, "robot", "scenario"), tour);
+    if (const Node station = root["station"])
+      read_station(station, tour);
+    const std::size_t laps = read_path(r_.required(root, "path", "scenario"), tour);
+    tour.name = laps == 0 ? name : fmt::format("{} lap{} of {}", laps, laps == 1 ? "" : "s", name);
+    tour.drive.name = tour.name;
+    if (const Node d = root["disturbances"])
+      read_disturbances(d, laps, tour.drive);
+    read_survey(r_.required(root, "survey", "scenario"), tour, s.survey);
+    check_inside(root, tour);
+    return s;
+  }
+
+ private:
+  Vec2 point(const Node& node, std::string_view where) const {
+    const std::vector<double> xy = r_.numbers(node, where, 2);
+    return {xy[0], xy[1]};
+  }
+
+  void read_room(const Node& node, world::AcousticWorld& w) const {
+    r_.check_keys(node, "room", {"width_m", "depth_m", "reflection", "obstacles"});
+    world::Room& room = w.room.emplace();
+    room.width_m = r_.number(r_.required(node, "width_m", "room"), "room.width_m", 0.5, 1000);
+    room.depth_m = r_.number(r_.required(node, "depth_m", "room"), "room.depth_m", 0.5, 1000);
+    if (const Node reflection = node["reflection"]) {
+      const std::vector<double> k = r_.numbers(reflection, "room.reflection", world::kWallCount);
+      for (std::size_t i = 0; i < world::kWallCount; ++i) {
+        if (!(k[i] >= 0 && k[i] <= 1))
+          r_.fail(reflection, "room.reflection: each coefficient is in [0, 1]");
+        room.reflection[i] = k[i];
+      }
+    }
+    if (const Node obstacles = node["obstacles"]) {
+      r_.sequence(obstacles, "room.obstacles");
+      for (const Node& o : obstacles) {
+        r_.check_keys(o, "room.obstacles[]", {"from", "to", "radius_m"});
+        w.obstacles.push_back({point(r_.required(o, "from", "obstacle"), "obstacle.from"),
+                               point(r_.required(o, "to", "obstacle"), "obstacle.to"),
+                               r_.number_or(o, "radius_m", "obstacle", 0, 0, 100)});
+      }
+    }
+  }
+
+  void read_air(const Node& node, world::Air& air) const {
+    r_.check_keys(node, "air", {"temperature_c", "relative_humidity", "pressure_kpa"});
+    air.temperature_c = r_.number_or(node, "temperature_c", "air", air.temperature_c, -40, 60);
+    air.relative_humidity =
+        r_.number_or(node, "relative_humidity", "air", air.relative_humidity, 0, 1);
+    air.pressure_kpa = r_.number_or(node, "pressure_kpa", "air", air.pressure_kpa, 50, 120);
+  }
+
+  void read_noise(const Node& node, world::AcousticNoise& n) const {
+    r_.check_keys(node, "noise",
+                  {"path_jitter_s", "receiver_jitter_s", "amplitude_sd", "pulses_per_s",
+                   "pulse_min_width_s", "pulse_max_width_s"});
+    n.path_jitter_sd_s = r_.number_or(node, "path_jitter_s", "noise", 0, 0, 1e-3);
+    n.receiver_jitter_sd_s = r_.number_or(node, "receiver_jitter_s", "noise", 0, 0, 1e-3);
+    n.amplitude_sd = r_.number_or(node, "amplitude_sd", "noise", 0, 0, 1);
+    n.noise_rate_hz = r_.number_or(node, "pulses_per_s", "noise", 0, 0, 1000);
+    n.noise_min_width_s =
+        r_.number_or(node, "pulse_min_width_s", "noise", n.noise_min_width_s, 1e-6, 1);
+    n.noise_max_width_s =
+        r_.number_or(node, "pulse_max_width_s", "noise", n.noise_max_width_s, 1e-6, 1);
+    if (n.noise_max_width_s < n.noise_min_width_s)
+      r_.fail(node, "noise: pulse_max_width_s is below pulse_min_width_s");
+  }
+
+  // Every transmitter's acoustics; `base` holds the defaults.
+  world::Beacon transmitter(const Node& node, std::string_view where, world::Beacon base) const {
+    base.carrier_hz = r_.number_or(node, "carrier_hz", where, base.carrier_hz, 1e3, 1e6);
+    base.amplitude_1m_v =
+        r_.number_or(node, "amplitude_1m_v", where, base.amplitude_1m_v, 1e-3, 1e4);
+    base.piston_radius_m =
+        r_.number_or(node, "piston_radius_m", where, base.piston_radius_m, 1e-4, 0.5);
+    base.envelope_tau_s =
+        r_.number_or(node, "envelope_tau_s", where, base.envelope_tau_s, 1e-6, 0.1);
+    return base;
+  }
+  std::vector<double> axes(const Node& node, std::string_view where) const {
+    std::vector<double> out;
+    for (const double deg : r_.numbers(node, where))
+      out.push_back(deg * kDeg);
+    return out;
+  }
+
+  void read_beacons(const Node& node, world::RoomTour& tour) const {
+    r_.check_keys(node, "beacons",
+                  {"height_m", "fire_s", "fire_ticks", "pulse_s", "double_pulse_s", "first_burst_s",
+                   "transmitter", "list"});
+    world::AcousticWorld& w = tour.acoustics;
+    world::KleemanTiming& t = tour.timing;
+    w.height_m = r_.number_or(node, "height_m", "beacons", 0, 0, 100);
+    t.fire_ticks = static_cast<std::uint32_t>(
+        node["fire_ticks"] ? r_.whole(node["fire_ticks"], "beacons.fire_ticks", 1, 1U << 24)
+                           : t.fire_ticks);
+    if (const Node fire = node["fire_s"])
+      t.timer_tick_s = r_.number(fire, "beacons.fire_s", 1e-3, 10) / t.fire_ticks;
+    t.pulse_s = r_.number_or(node, "pulse_s", "beacons", t.pulse_s, 1e-5, 1);
+    t.double_pulse_s = r_.number_or(node, "double_pulse_s", "beacons", t.double_pulse_s, 1e-5, 1);
+    tour.first_burst_s = r_.number_or(node, "first_burst_s", "beacons", tour.first_burst_s, 0, 60);
+    world::Beacon base;
+    if (const Node tx = node["transmitter"]) {
+      r_.check_keys(tx, "beacons.transmitter",
+                    {"carrier_hz", "amplitude_1m_v", "piston_radius_m", "envelope_tau_s"});
+      base = transmitter(tx, "beacons.transmitter", base);
+    }
+    const Node list = r_.required(node, "list", "beacons");
+    r_.sequence(list, "beacons.list");
+    for (const Node& b : list) {
+      r_.check_keys(b, "beacons.list[]",
+                    {"position", "axes_deg", "carrier_hz", "amplitude_1m_v", "piston_radius_m",
+                     "envelope_tau_s"});
+      world::Beacon beacon = transmitter(b, "beacon", base);
+      beacon.position = point(r_.required(b, "position", "beacon"), "beacon.position");
+      beacon.axes_rad = axes(r_.required(b, "axes_deg", "beacon"), "beacon.axes_deg");
+      w.beacons.push_back(beacon);
+    }
+    if (w.beacons.size() < 3 || w.beacons.size() > 16)
+      r_.fail(list, fmt::format("beacons.list: {} beacons; Kleeman's system needs 3 to 16",
+                                w.beacons.size()));
+    t.beacon_count = w.beacons.size();
+  }
+
+  void read_station(const Node& node, world::RoomTour& tour) const {
+    r_.check_keys(node, "station",
+                  {"position", "axes_deg", "t0_s", "station_laser", "robot_laser", "carrier_hz",
+                   "amplitude_1m_v", "piston_radius_m", "envelope_tau_s"});
+    world::AcousticWorld& w = tour.acoustics;
+    world::BaseStation& station = tour.station.emplace();
+    station.position = point(r_.required(node, "position", "station"), "station.position");
+    station.transmitter = w.beacons.size();
+    // The beacons' transmitter unless the station says otherwise.
+    world::Beacon tx = transmitter(node, "station", w.beacons.front());
+    tx.position = station.position;
+    tx.axes_rad = axes(r_.required(node, "axes_deg", "station"), "station.axes_deg");
+    tx.electronics_delay_s = r_.number_or(node, "t0_s", "station", 0, 0, 1);
+    w.beacons.push_back(tx);
+    tour.timing.reserved_slots = 1;
+    read_laser(r_.required(node, "station_laser", "station"), "station.station_laser",
+               station.station_laser);
+    read_laser(r_.required(node, "robot_laser", "station"), "station.robot_laser",
+               station.robot_laser);
+  }
+  void read_laser(const Node& node, std::string_view where, world::ScanningLaser& laser) const {
+    r_.check_keys(node, where,
+                  {"sweep_start_deg", "sweep_width_deg", "period_s", "phase_s", "counts_per_rev"});
+    laser.sweep_start_rad =
+        r_.number(r_.required(node, "sweep_start_deg", where), "sweep_start_deg", -360, 360) * kDeg;
+    laser.sweep_width_rad =
+        r_.number(r_.required(node, "sweep_width_deg", where), "sweep_width_deg", 1, 360) * kDeg;
+    laser.period_s = r_.number_or(node, "period_s", where, laser.period_s, 0.01, 1000);
+    laser.phase_s = r_.number_or(node, "phase_s", where, laser.phase_s, -1000, 1000);
+    if (const Node counts = node["counts_per_rev"])
+      laser.counts_per_rev = static_cast<std::uint32_t>(
+          r_.whole(counts, fmt::format("{}.counts_per_rev", where), 4, 1U << 24));
+  }
+
+  void read_wheel(const Node& node, std::string_view where, world::WheelEncoder& wheel) const {
+    r_.check_keys(node, where,
+                  {"nominal_radius_m", "true_radius_m", "radius_error", "lines", "gear"});
+    wheel.nominal_radius_m =
+        r_.number_or(node, "nominal_radius_m", where, wheel.nominal_radius_m, 0.005, 2);
+    if (node["true_radius_m"] && node["radius_error"])
+      r_.fail(node, fmt::format("{}: true_radius_m or radius_error, not both", where));
+    if (const Node error = node["radius_error"])
+      wheel.true_radius_m =
+          wheel.nominal_radius_m *
+          (1 + r_.number(error, fmt::format("{}.radius_error", where), -0.5, 0.5));
+    else
+      wheel.true_radius_m =
+          r_.number_or(node, "true_radius_m", where, wheel.nominal_radius_m, 0.005, 2);
+    if (const Node lines = node["lines"])
+      wheel.lines =
+          static_cast<std::uint32_t>(r_.whole(lines, fmt::format("{}.lines", where), 1, 1U << 20));
+    wheel.gear = r_.number_or(node, "gear", where, wheel.gear, 0.01, 1000);
+  }
+
+  void read_robot(const Node& node, world::RoomTour& tour) const {
+    r_.check_keys(node, "robot", {"track_m", "wheelbase_m", "wheels", "steering", "receivers"});
+    world::Geometry& g = tour.drive.geometry;
+    g.track_m = r_.number_or(node, "track_m", "robot", g.track_m, 0.05, 5);
+    g.wheelbase_m = r_.number_or(node, "wheelbase_m", "robot", g.wheelbase_m, 0.05, 5);
+    if (const Node wheels = node["wheels"]) {
+      r_.check_keys(wheels, "robot.wheels", {"left_rear", "right_rear", "front"});
+      if (const Node w = wheels["left_rear"])
+        read_wheel(w, "robot.wheels.left_rear", g.left_rear);
+      if (const Node w = wheels["right_rear"])
+        read_wheel(w, "robot.wheels.right_rear", g.right_rear);
+      if (const Node w = wheels["front"])
+        read_wheel(w, "robot.wheels.front", g.front);
+    }
+    if (const Node s = node["steering"]) {
+      r_.check_keys(s, "robot.steering", {"lines", "gear", "limit_deg"});
+      if (const Node lines = s["lines"])
+        g.steering.lines =
+            static_cast<std::uint32_t>(r_.whole(lines, "robot.steering.lines", 1, 1U << 20));
+      g.steering.gear = r_.number_or(s, "gear", "robot.steering", g.steering.gear, 0.01, 1000);
+      if (const Node limit = s["limit_deg"])
+        g.steering.limit_rad = r_.number(limit, "robot.steering.limit_deg", 1, 89) * kDeg;
+    }
+    read_receivers(r_.required(node, "receivers", "robot"), tour.acoustics.receivers);
+  }
+
+  void read_receivers(const Node& node, std::vector<world::Receiver>& out) const {
+    r_.check_keys(node, "robot.receivers", {"octagon", "list"});
+    if (node["octagon"] && node["list"])
+      r_.fail(node, "robot.receivers: an octagon or a list, not both");
+    if (const Node o = node["octagon"]) {
+      r_.check_keys(o, "robot.receivers.octagon", {"side_m", "centre"});
+      const Vec2 centre = o["centre"] ? point(o["centre"], "octagon.centre") : Vec2{};
+      out = world::kleeman_octagon(centre, r_.number_or(o, "side_m", "octagon", 0.05, 0.005, 1));
+      return;
+    }
+    const Node list = r_.required(node, "list", "robot.receivers");
+    r_.sequence(list, "robot.receivers.list");
+    for (const Node& item : list) {
+      r_.check_keys(
+          item, "robot.receivers.list[]",
+          {"position", "axis_deg", "resonance_hz", "quality", "piston_radius_m", "threshold_v"});
+      world::Receiver rx;
+      rx.position = point(r_.required(item, "position", "receiver"), "receiver.position");
+      rx.axis_rad =
+          r_.number(r_.required(item, "axis_deg", "receiver"), "receiver.axis_deg", -360, 360) *
+          kDeg;
+      rx.resonance_hz = r_.number_or(item, "resonance_hz", "receiver", rx.resonance_hz, 1e3, 1e6);
+      rx.quality = r_.number_or(item, "quality", "receiver", rx.quality, 0.5, 1000);
+      rx.piston_radius_m =
+          r_.number_or(item, "piston_radius_m", "receiver", rx.piston_radius_m, 1e-4, 0.5);
+      rx.threshold_v = r_.number_or(item, "threshold_v", "receiver", rx.threshold_v, 1e-4, 100);
+      out.push_back(rx);
+    }
+    if (out.empty() || out.size() > 8)
+      r_.fail(list, "robot.receivers.list: 1 to 8 receivers (the capture unit's channels)");
+  }
+
+  // The path; returns its laps (0: a path without laps).
+  std::size_t read_path(const Node& node, world::RoomTour& tour) const {
+    r_.check_keys(node, "path",
+                  {"start", "wait_s", "laps", "square", "segments", "steer_rate_degps"});
+    world::Scenario& drive = tour.drive;
+    const Node start = r_.required(node, "start", "path");
+    r_.check_keys(start, "path.start", {"x_m", "y_m", "heading_deg"});
+    drive.start = {r_.number(r_.required(start, "x_m", "path.start"), "path.start.x_m"),
+                   r_.number(r_.required(start, "y_m", "path.start"), "path.start.y_m"),
+                   r_.number_or(start, "heading_deg", "path.start", 0, -360, 360) * kDeg};
+    const double wait_s = r_.number_or(node, "wait_s", "path", 0, 0, 3600);
+    std::size_t laps = node["laps"] ? r_.whole(node["laps"], "path.laps", 1, 100) : 0;
+    if (overrides_.laps) {
+      if (laps == 0)
+        r_.fail(node, "--laps: this scenario's path has no laps");
+      laps = *overrides_.laps;
+    }
+    if (node["square"] && node["segments"])
+      r_.fail(node, "path: a square or segments, not both");
+    world::Path lap;
+    if (const Node sq = node["square"]) {
+      r_.check_keys(sq, "path.square", {"side_m", "speed_mps", "steer_deg"});
+      const double side = r_.number(r_.required(sq, "side_m", "path.square"), "side_m", 0.5, 1000);
+      double speed = r_.number(r_.required(sq, "speed_mps", "path.square"), "speed_mps", 0.01, 1.5);
+      if (overrides_.speed_mps)
+        speed = *overrides_.speed_mps;
+      const double steer =
+          r_.number(r_.required(sq, "steer_deg", "path.square"), "steer_deg", 1, 40) * kDeg;
+      lap = world::square_path(drive.geometry, side, speed, steer);
+      // The odometer of one lap: four straights and four quarter turns.
+      const double radius = drive.geometry.wheelbase_m / std::tan(steer);
+      lap_m_ = 4 * (side - 2 * radius) + 2 * std::numbers::pi * radius;
+    } else {
+      if (overrides_.speed_mps)
+        r_.fail(node, "--speed: only a square path has one speed");
+      read_segments(r_.required(node, "segments", "path"), lap);
+      lap_m_ = path_metres(lap);
+    }
+    if (const Node rate = node["steer_rate_degps"])
+      lap.steer_rate_radps = r_.number(rate, "path.steer_rate_degps", 1, 3600) * kDeg;
+    drive.path.steer_rate_radps = lap.steer_rate_radps;
+    drive.path.segments.push_back(world::Segment::duration(0, 0, wait_s));
+    for (std::size_t l = 0; l < std::max<std::size_t>(laps, 1); ++l)
+      drive.path.segments.insert(drive.path.segments.end(), lap.segments.begin(),
+                                 lap.segments.end());
+    drive.path.segments.push_back(world::Segment::duration(0, 0, wait_s));
+    tour.duration_s = path_seconds(drive.path);
+    return laps;
+  }
+  void read_segments(const Node& node, world::Path& path) const {
+    r_.sequence(node, "path.segments");
+    for (const Node& s : node) {
+      r_.check_keys(s, "path.segments[]",
+                    {"speed_mps", "steer_deg", "distance_m", "duration_s", "steer_to_deg"});
+      const int ends =
+          (s["distance_m"] ? 1 : 0) + (s["duration_s"] ? 1 : 0) + (s["steer_to_deg"] ? 1 : 0);
+      if (ends != 1)
+        r_.fail(s, "path.segments[]: exactly one of distance_m, duration_s, steer_to_deg");
+      if (const Node to = s["steer_to_deg"]) {
+        path.segments.push_back(
+            world::Segment::steer_to(r_.number(to, "segment.steer_to_deg", -89, 89) * kDeg));
+        continue;
+      }
+      const double speed = r_.number_or(s, "speed_mps", "segment", 0, -1.5, 1.5);
+      const double steer = r_.number_or(s, "steer_deg", "segment", 0, -89, 89) * kDeg;
+      if (const Node d = s["distance_m"]) {
+        if (speed == 0)
+          r_.fail(s, "path.segments[]: a distance needs a speed");
+        path.segments.push_back(
+            world::Segment::distance(speed, steer, r_.number(d, "segment.distance_m", 0, 1e5)));
+      } else {
+        path.segments.push_back(world::Segment::duration(
+            speed, steer, r_.number(s["duration_s"], "segment.duration_s", 0, 1e5)));
+      }
+    }
+    if (path.segments.empty())
+      r_.fail(node, "path.segments: at least one segment");
+  }
+
+  Wheel wheel(const Node& node, std::string_view where, bool both_rear_allowed,
+              bool* both_rear) const {
+    const std::string w = r_.scalar(node, where);
+    if (w == "left_rear")
+      return Wheel::kLeftRear;
+    if (w == "right_rear")
+      return Wheel::kRightRear;
+    if (w == "front")
+      return Wheel::kFront;
+    if (both_rear_allowed && w == "both_rear") {
+      *both_rear = true;
+      return Wheel::kLeftRear;
+    }
+    r_.fail(node,
+            fmt::format("{}: unknown wheel '{}' (known: left_rear, right_rear, front{})", where,
+                        output::printable_excerpt(w), both_rear_allowed ? ", both_rear" : ""));
+  }
+
+  void read_disturbances(const Node& node, std::size_t laps, world::Scenario& drive) const {
+    r_.check_keys(node, "disturbances", {"each_lap", "bumps", "slips"});
+    const bool each_lap = node["each_lap"] && r_.scalar(node["each_lap"], "each_lap") == "true";
+    if (each_lap && laps == 0)
+      r_.fail(node, "disturbances.each_lap: the path has no laps");
+    for (std::size_t l = 0; l < (each_lap ? laps : 1); ++l) {
+      const double at = static_cast<double>(l) * lap_m_;
+      if (const Node bumps = node["bumps"]) {
+        r_.sequence(bumps, "disturbances.bumps");
+        for (const Node& b : bumps) {
+          r_.check_keys(b, "disturbances.bumps[]", {"wheel", "at_m", "height_m", "length_m"});
+          bool both = false;
+          const Wheel w = wheel(r_.required(b, "wheel", "bump"), "bump.wheel", true, &both);
+          const double start = at + r_.number(r_.required(b, "at_m", "bump"), "bump.at_m", 0, 1e5);
+          const double height =
+              r_.number(r_.required(b, "height_m", "bump"), "bump.height_m", 1e-4, 0.2);
+          const double length =
+              r_.number(r_.required(b, "length_m", "bump"), "bump.length_m", 0.01, 5);
+          const world::Disturbances d = both ? world::bump_under_both_rear(start, height, length)
+                                        : w == Wheel::kFront
+                                            ? world::bump_under_front(start, height, length)
+                                            : world::bump_under_one_rear(w, start, height, length);
+          drive.disturbances.bumps.insert(drive.disturbances.bumps.end(), d.bumps.begin(),
+                                          d.bumps.end());
+        }
+      }
+      if (const Node slips = node["slips"]) {
+        r_.sequence(slips, "disturbances.slips");
+        for (const Node& s : slips) {
+          r_.check_keys(s, "disturbances.slips[]", {"wheel", "from_m", "to_m", "ratio"});
+          world::Slip slip;
+          slip.wheel = wheel(r_.required(s, "wheel", "slip"), "slip.wheel", false, nullptr);
+          slip.start_m = at + r_.number(r_.required(s, "from_m", "slip"), "slip.from_m", 0, 1e5);
+          slip.end_m = at + r_.number(r_.required(s, "to_m", "slip"), "slip.to_m", 0, 1e5);
+          slip.ratio = r_.number(r_.required(s, "ratio", "slip"), "slip.ratio", -0.9, 10);
+          if (slip.end_m <= slip.start_m)
+            r_.fail(s, "disturbances.slips[]: to_m must be beyond from_m");
+          drive.disturbances.slips.push_back(slip);
+        }
+      }
+    }
+  }
+
+  void read_survey(const Node& node, const world::RoomTour& tour, Survey& survey) const {
+    r_.check_keys(node, "survey",
+                  {"beacons", "beacon_height_m", "temperature_c", "envelope_tau_s", "path_jitter_s",
+                   "receiver_jitter_s", "station"});
+    const Node beacons = r_.required(node, "beacons", "survey");
+    r_.sequence(beacons, "survey.beacons");
+    for (const Node& b : beacons)
+      survey.beacons.push_back(point(b, "survey.beacons[]"));
+    if (survey.beacons.size() != tour.timing.beacon_count)
+      r_.fail(beacons, fmt::format("survey.beacons: {} positions for {} beacons",
+                                   survey.beacons.size(), tour.timing.beacon_count));
+    survey.beacon_height_m = r_.number_or(node, "beacon_height_m", "survey", 0, 0, 100);
+    survey.temperature_c = r_.number_or(node, "temperature_c", "survey", 20, -40, 60);
+    survey.envelope_tau_s = r_.number_or(node, "envelope_tau_s", "survey", 0.5e-3, 1e-6, 0.1);
+    survey.path_jitter_s = r_.number_or(node, "path_jitter_s", "survey", 0, 0, 1e-3);
+    survey.receiver_jitter_s = r_.number_or(node, "receiver_jitter_s", "survey", 0, 0, 1e-3);
+    const Node station = node["station"];
+    if (static_cast<bool>(station) != tour.station.has_value())
+      r_.fail(station ? station : node, tour.station
+                                            ? "survey: missing 'station' (the scenario has one)"
+                                            : "survey.station: the scenario has no station");
+    if (station) {
+      r_.check_keys(station, "survey.station",
+                    {"position", "t0_s", "station_laser_start_deg", "robot_laser_start_deg"});
+      Survey::Station& s = survey.station.emplace();
+      s.position =
+          point(r_.required(station, "position", "survey.station"), "survey.station.position");
+      s.t0_s = r_.number_or(station, "t0_s", "survey.station", 0, 0, 1);
+      s.station_laser_start_rad =
+          r_.number(r_.required(station, "station_laser_start_deg", "survey.station"),
+                    "station_laser_start_deg", -360, 360) *
+          kDeg;
+      s.robot_laser_start_rad =
+          r_.number(r_.required(station, "robot_laser_start_deg", "survey.station"),
+                    "robot_laser_start_deg", -360, 360) *
+          kDeg;
+    }
+  }
+
+  // Everything that stands in the room stands inside it.
+  void check_inside(const Node& root, const world::RoomTour& tour) const {
+    const std::optional<world::Room>& room = tour.acoustics.room;
+    if (!room)
+      return;
+    const auto inside = [&](Vec2 p) {
+      return p.x_m >= 0 && p.x_m <= room->width_m && p.y_m >= 0 && p.y_m <= room->depth_m;
+    };
+    for (std::size_t i = 0; i < tour.acoustics.beacons.size(); ++i)
+      if (!inside(tour.acoustics.beacons[i].position))
+        r_.fail(i < tour.timing.beacon_count ? root["beacons"]["list"][i] : root["station"],
+                fmt::format("{} at ({}, {}) m is outside the {} x {} m room",
+                            i < tour.timing.beacon_count ? fmt::format("beacon {}", i)
+                                                         : std::string("the station"),
+                            tour.acoustics.beacons[i].position.x_m,
+                            tour.acoustics.beacons[i].position.y_m, room->width_m, room->depth_m));
+    const world::Pose& start = tour.drive.start;
+    if (!inside({start.x_m, start.y_m}))
+      r_.fail(root["path"]["start"],
+              fmt::format("path.start ({}, {}) m is outside the room", start.x_m, start.y_m));
+  }
+
+  yaml::Reader r_;
+  ScenarioOverrides overrides_;
+  mutable double lap_m_ = 0;  // the odometer of one lap of the path (m)
+};
+
+}  // namespace
+
+Scenario parse_scenario(const std::string& text, std::string_view file,
+                        const ScenarioOverrides& overrides) {
+  if (overrides.laps && (*overrides.laps < 1 || *overrides.laps > 100))
+    throw yaml::InputError("--laps must be 1 to 100");
+  if (overrides.speed_mps && !(*overrides.speed_mps > 0 && *overrides.speed_mps <= 1.5))
+    throw yaml::InputError("--speed must be in (0, 1.5] m/s");
+  return ScenarioReader(file, overrides).read(text);
+}
+
+Scenario load_scenario(const std::filesystem::path& path, const ScenarioOverrides& overrides) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  if (in)
+    text << in.rdbuf();
+  if (!in || in.bad())
+    throw yaml::InputError(
+        fmt::format("{}: cannot read the scenario", output::printable_excerpt(path.string(), 200)),
+        false);
+  return parse_scenario(text.str(), path.string(), overrides);
+}
+
+const BuiltinScenario* find_builtin_scenario(std::string_view key) {
+  for (const BuiltinScenario& s : builtin_scenarios())
+    if (s.key == key)
+      return &s;
+  return nullptr;
+}
+
+Scenario default_scenario(const ScenarioOverrides& overrides) {
+  const BuiltinScenario* s = find_builtin_scenario(kDefaultScenario);
+  return parse_scenario(std::string(s->text), fmt::format("{} (built in)", s->key), overrides);
+}
+
+}  // namespace odoloc::sim

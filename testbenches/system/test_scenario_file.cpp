@@ -1,0 +1,193 @@
+// Scenario files (odoloc/sim/scenario_file.hpp, docs/scenarios.md): the
+// built-in room tour, overrides, and every mistake an error with the file
+// and the line.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <string>
+
+#include "odoloc/sim/scenario_file.hpp"
+
+namespace {
+
+using odoloc::sim::parse_scenario;
+using odoloc::sim::Scenario;
+using odoloc::yaml::InputError;
+
+std::string room_tour_text() {
+  return std::string(odoloc::sim::find_builtin_scenario(odoloc::sim::kDefaultScenario)->text);
+}
+
+// The text with the first `from` replaced by `to` (which must be there).
+std::string edited(std::string text, const std::string& from, const std::string& to) {
+  const std::size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos)
+    text.replace(at, from.size(), to);
+  return text;
+}
+
+// The message parse_scenario throws for `text` ("" when it parses).
+std::string error_of(const std::string& text, const odoloc::sim::ScenarioOverrides& o = {}) {
+  try {
+    static_cast<void>(parse_scenario(text, "my.yaml", o));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// The 1-based line of the first occurrence of `needle` in the text.
+int line_of(const std::string& text, const std::string& needle) {
+  const std::size_t at = text.find(needle);
+  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n'));
+}
+
+TEST(ScenarioFile, TheRoomTourIsKleemansRoomWithLiusStation) {
+  const Scenario s = odoloc::sim::default_scenario();
+  EXPECT_EQ(s.tour.name, "2 laps of the 6 m square in Kleeman's room");
+  EXPECT_EQ(s.seed, 1U);
+  EXPECT_EQ(s.tour.timing.beacon_count, 6U);
+  ASSERT_EQ(s.tour.acoustics.beacons.size(), 7U);  // and the station's transmitter
+  EXPECT_EQ(s.tour.timing.reserved_slots, 1U);
+  ASSERT_TRUE(s.tour.station.has_value());
+  EXPECT_EQ(s.tour.station->transmitter, 6U);
+  EXPECT_EQ(s.tour.acoustics.receivers.size(), 8U);
+  EXPECT_DOUBLE_EQ(s.tour.timing.fire_s(), 0.150);
+  // Per lap: both rear wheels (two bumps), the right rear and the front.
+  EXPECT_EQ(s.tour.drive.disturbances.bumps.size(), 8U);
+  EXPECT_EQ(s.tour.drive.disturbances.slips.size(), 2U);
+  // A perfect survey: the SoC is told where the beacons stand.
+  ASSERT_EQ(s.survey.beacons.size(), 6U);
+  for (std::size_t i = 0; i < 6; ++i) {
+    EXPECT_EQ(s.survey.beacons[i].x_m, s.tour.acoustics.beacons[i].position.x_m);
+    EXPECT_EQ(s.survey.beacons[i].y_m, s.tour.acoustics.beacons[i].position.y_m);
+  }
+  EXPECT_DOUBLE_EQ(s.tour.drive.geometry.left_rear.true_radius_m, 0.05 * 1.002);
+}
+
+// d(duration)/d(1/speed) is the lap's length: 4 (side - 2 r) + 2 pi r with
+// the turn radius r = L / tan(steer); the steering stops do not depend on
+// the speed. One lap more adds one lap's time.
+TEST(ScenarioFile, LapsAndSpeedOverridesChangeThePathAsItsGeometrySays) {
+  const double r = 0.50 / std::tan(30 * std::numbers::pi / 180);
+  const double lap_m = 4 * (6 - 2 * r) + 2 * std::numbers::pi * r;
+  const double slow = odoloc::sim::default_scenario({.laps = 1, .speed_mps = 0.5}).tour.duration_s;
+  const double fast = odoloc::sim::default_scenario({.laps = 1, .speed_mps = 1.0}).tour.duration_s;
+  EXPECT_NEAR(slow - fast, lap_m * (1 / 0.5 - 1 / 1.0), 1e-9);
+  const Scenario three = odoloc::sim::default_scenario({.laps = 3});
+  EXPECT_NEAR(three.tour.duration_s - odoloc::sim::default_scenario().tour.duration_s, slow - 6.0,
+              1e-9);  // a lap at 0.5 m/s, without the two 3 s waits
+  EXPECT_EQ(three.tour.name, "3 laps of the 6 m square in Kleeman's room");
+  EXPECT_EQ(three.tour.drive.disturbances.bumps.size(), 12U);
+  // Lap 2's slip starts two lap lengths on from lap 0's.
+  EXPECT_NEAR(three.tour.drive.disturbances.slips[2].start_m - 19.0, 2 * lap_m, 1e-9);
+}
+
+TEST(ScenarioFile, AMovedBeaconMovesInTheWorldAndNotInTheSurvey) {
+  const std::string text =
+      edited(room_tour_text(), "{position: [9.95, 9.95]", "{position: [9.5, 9.0]");
+  const Scenario s = parse_scenario(text, "moved.yaml");
+  EXPECT_EQ(s.tour.acoustics.beacons[3].position.x_m, 9.5);
+  EXPECT_EQ(s.tour.acoustics.beacons[3].position.y_m, 9.0);
+  EXPECT_EQ(s.survey.beacons[3].x_m, 9.95);  // the SoC still believes the survey
+}
+
+TEST(ScenarioFile, ASegmentPathLastsItsDistancesAndDurations) {
+  std::string text = room_tour_text();
+  text = edited(text, "  laps: 2\n  square: {side_m: 6, speed_mps: 0.5, steer_deg: 30}\n",
+                "  segments:\n    - {speed_mps: 0.4, distance_m: 2}\n"
+                "    - {speed_mps: -0.2, duration_s: 1.5}\n");
+  text = edited(text, "  each_lap: true\n", "");
+  const Scenario s = parse_scenario(text, "line.yaml");
+  EXPECT_NEAR(s.tour.duration_s, 3 + 2 / 0.4 + 1.5 + 3, 1e-12);
+  EXPECT_EQ(s.tour.name, "the 6 m square in Kleeman's room");
+  const std::string laps = error_of(text, {.laps = 2});
+  EXPECT_TRUE(laps.starts_with("my.yaml:" + std::to_string(line_of(text, "  start: {x_m: 2")) +
+                               ": --laps: this scenario's path has no laps"))
+      << laps;
+}
+
+struct Mistake {
+  const char* from;
+  const char* to;
+  const char* message;  // part of the error
+  const char* at;       // the line the error names: the first line holding this (a
+                        // mapping's or list's line is its first entry's)
+};
+
+TEST(ScenarioFile, EveryMistakeNamesTheFileAndTheLine) {
+  const Mistake mistakes[] = {
+      {"seed: 1\n", "seed: 1\nsede: 2\n", "unknown key 'sede'", "sede: 2"},
+      {"seed: 1\n", "seed: 1\nseed: 2\n", "'seed' given twice", "seed: 2"},
+      {"  width_m: 10\n", "  width_m: nan\n", "must be a finite number, not 'nan'", "width_m: nan"},
+      {"  depth_m: 10\n", "  depth_m: 1e999\n", "must be a finite number", "depth_m: 1e999"},
+      {"{position: [5.0, 9.95], axes_deg", "{position: [5.0, 10.5], axes_deg",
+       "beacon 4 at (5, 10.5) m is outside the 10 x 10 m room", "[5.0, 10.5]"},
+      {"    - [0.05, 9.95]\n", "", "survey.beacons: 5 positions for 6 beacons",
+       "    - [0.05, 0.05]\n"},
+      {"{wheel: right_rear, at_m", "{wheel: rear_right, at_m", "unknown wheel 'rear_right'",
+       "rear_right"},
+      {"reflection: [0.9, 0.9, 0.9, 0.9]", "reflection: [0.9, 0.9, 1.5, 0.9]",
+       "each coefficient is in [0, 1]", "reflection"},
+      {"  start: {x_m: 2, y_m: 2", "  start: {x_m: 12, y_m: 2", "path.start (12, 2) m is outside",
+       "x_m: 12"},
+      {"from_m: 19.0, to_m: 20.0", "from_m: 19.0, to_m: 18.0", "to_m must be beyond from_m",
+       "to_m: 18.0"},
+      {"  fire_s: 0.150\n", "  fire_s: [0.150]\n", "must be a finite number, not 'a list",
+       "fire_s: ["},
+      {"    station_laser_start_deg: -80\n", "", "missing 'station_laser_start_deg'",
+       "    position: [0.3, 5.0]\n    t0_s"},
+      // yaml-cpp names the line where it found the list unclosed.
+      {"name: the 6 m square", "name: [the 6 m square", "YAML:", "seed: 1"},
+  };
+  const std::string base = room_tour_text();
+  for (const Mistake& m : mistakes) {
+    const std::string text = edited(base, m.from, m.to);
+    const std::string error = error_of(text);
+    EXPECT_NE(error.find(m.message), std::string::npos) << m.message << "\ngot: " << error;
+    const std::string place = "my.yaml:" + std::to_string(line_of(text, m.at)) + ":";
+    EXPECT_TRUE(error.starts_with(place)) << place << "\ngot: " << error;
+  }
+  EXPECT_NE(error_of(base + "---\nname: again\n").find("a second document"), std::string::npos);
+  EXPECT_NE(error_of("[1, 2]").find("a scenario is a YAML mapping"), std::string::npos);
+  EXPECT_NE(error_of(base, {.laps = 0}).find("--laps must be 1 to 100"), std::string::npos);
+  EXPECT_NE(error_of(base, {.speed_mps = 2.0}).find("--speed must be in (0, 1.5]"),
+            std::string::npos);
+}
+
+// Random byte edits of the room tour: each parses or is an InputError,
+// nothing else (no crash, no other exception, no hang).
+TEST(ScenarioFile, EditedFilesParseOrFailCleanly) {
+  const std::string base = room_tour_text();
+  std::mt19937_64 rng(29);
+  const std::string alphabet = "0123456789-.:,[]{}#'\" \nabez_";
+  int failed = 0;
+  for (int i = 0; i < 400; ++i) {
+    std::string text = base;
+    for (int k = 0; k < 3; ++k) {
+      const std::size_t at = rng() % text.size();
+      switch (rng() % 3) {
+        case 0:
+          text.erase(at, 1 + rng() % 8);
+          break;
+        case 1:
+          text.insert(at, 1, alphabet[rng() % alphabet.size()]);
+          break;
+        default:
+          text[at] = alphabet[rng() % alphabet.size()];
+      }
+    }
+    try {
+      static_cast<void>(parse_scenario(text, "edited.yaml"));
+    } catch (const InputError& e) {
+      ++failed;
+      EXPECT_TRUE(std::string(e.what()).starts_with("edited.yaml")) << e.what();
+    }
+  }
+  EXPECT_GT(failed, 100);  // the edits do break files
+}
+
+}  // namespace
