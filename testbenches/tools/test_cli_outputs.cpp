@@ -358,6 +358,22 @@ TEST(CommandOutputs, SimPictureIsThePlotOfItsDeliveredLog) {
   EXPECT_TRUE(slurp(dir / "run" / "localisation.png") == slurp(dir / "replot.png"));
 }
 
+// A scenario's name is data: on the terminal its control bytes are
+// escaped, as a file name's are.
+TEST(CommandOutputs, AScenarioNameReachesTheTerminalEscaped) {
+  const fs::path dir = fresh_dir("outputs", "scenario_name");
+  std::string text = slurp(kExamples / "scenarios" / "room-tour.yaml");
+  const std::string name = "name: the 6 m square in Kleeman's room";
+  ASSERT_NE(text.find(name), std::string::npos);
+  text.replace(text.find(name), name.size(), "name: \"\\e]0;owned\\a room\"");
+  std::ofstream(dir / "hostile.yaml") << text;
+  const ChildResult r = run_in(
+      dir, {"sim", "--scenario", "hostile.yaml", "--duration", "0.5", "--out", "o", "--no-plot"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("2 laps of \\x1b]0;owned\\x07 room"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find('\x1b'), std::string::npos);
+}
+
 TEST(CommandOutputs, SimDurationZeroIsRefused) {
   const fs::path dir = fresh_dir("outputs", "duration");
   const ChildResult zero = run_in(dir, {"sim", "--duration", "0", "--out", "d"});

@@ -14,7 +14,6 @@ namespace odoloc::sim {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr double kBig = 1e6;  // metres, seconds, volts: any sane value is far inside
 
 using world::Vec2;
 using world::Wheel;
@@ -480,7 +479,7 @@ class ScenarioReader {
     if (station) {
       r_.check_keys(station, "survey.station",
                     {"position", "t0_s", "station_laser_start_deg", "robot_laser_start_deg"});
-      Survey::Station& s = survey.station.emplace();
+      SurveyedStation& s = survey.station.emplace();
       s.position =
           point(r_.required(station, "position", "survey.station"), "survey.station.position");
       s.t0_s = r_.number_or(station, "t0_s", "survey.station", 0, 0, 1);

@@ -80,7 +80,7 @@ sw::LocaliserConfig soc_config(const world::RoomTour& tour, const Survey& survey
   if (survey.station && tour.station) {
     // Surveyed and calibrated: the station's place, its t0, the lasers'
     // encoder indices (and their encoders' counts, the devices' data).
-    const Survey::Station& st = *survey.station;
+    const SurveyedStation& st = *survey.station;
     sw::station::StationConfig& sc = c.station.emplace();
     sc.position_m = {st.position.x_m, st.position.y_m};
     sc.height_m = survey.beacon_height_m;

@@ -131,7 +131,8 @@ void run_sim(const SimCommand& command, std::ostream& out, bool json,
                                   .stop = stop});
   const world::RoomTour& tour = system.tour();
   if (!json)
-    out << fmt::format("odoloc sim: {}, {:.1f} s to simulate, seed {}{}\n", tour.name,
+    out << fmt::format("odoloc sim: {}, {:.1f} s to simulate, seed {}{}\n",
+                       output::printable(tour.name),  // a scenario file's: data
                        tour.duration_s, seed,
                        live ? fmt::format("; publishing on {}", live_url) : std::string())
         << std::flush;

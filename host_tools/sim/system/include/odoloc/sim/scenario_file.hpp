@@ -20,6 +20,14 @@
 
 namespace odoloc::sim {
 
+// Liu's base station as surveyed and calibrated.
+struct SurveyedStation {
+  world::Vec2 position;
+  double t0_s = 0;                     // trigger to sound
+  double station_laser_start_rad = 0;  // the lasers' encoder indices
+  double robot_laser_start_rad = 0;
+};
+
 // What the SoC software is told about the world: surveyed positions, the
 // calibrated transmitters and turbulence, a thermometer's temperature.
 struct Survey {
@@ -29,13 +37,7 @@ struct Survey {
   double envelope_tau_s = 0.5e-3;    // the transmitters' envelope time constant
   double path_jitter_s = 0;          // turbulence as calibrated: per path and per receiver
   double receiver_jitter_s = 0;
-  struct Station {
-    world::Vec2 position;
-    double t0_s = 0;                     // trigger to sound
-    double station_laser_start_rad = 0;  // the lasers' encoder indices
-    double robot_laser_start_rad = 0;
-  };
-  std::optional<Station> station;
+  std::optional<SurveyedStation> station;
 };
 
 struct Scenario {
