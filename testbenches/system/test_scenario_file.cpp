@@ -110,6 +110,40 @@ TEST(ScenarioFile, ASegmentPathLastsItsDistancesAndDurations) {
       << laps;
 }
 
+TEST(ScenarioFile, KleemansStationaryPointsAndGrid) {
+  const odoloc::sim::BuiltinScenario* file =
+      odoloc::sim::find_builtin_scenario("kleeman-stationary.yaml");
+  ASSERT_NE(file, nullptr);
+  const Scenario s = parse_scenario(std::string(file->text), file->key);
+  ASSERT_TRUE(s.stationary.has_value());
+  const odoloc::sim::Stationary& st = *s.stationary;
+  ASSERT_EQ(st.points.size(), 3U);
+  EXPECT_EQ(st.points[1].position.x_m, 4.003);
+  EXPECT_EQ(st.points[1].fixes, 1684U);  // the paper's sample counts
+  ASSERT_TRUE(st.points[2].paper_sd_m.has_value());
+  EXPECT_DOUBLE_EQ(st.points[2].paper_sd_m->x_m, 0.0085);
+  EXPECT_FALSE(s.tour.station.has_value());
+  EXPECT_DOUBLE_EQ(s.tour.timing.cycle_s(), 0.9);  // six beacons, no reserved slot
+  ASSERT_TRUE(st.grid.has_value());
+  // 1 m apart, 1 m from the walls of the 10 m room: 9 x 9 points.
+  const std::vector<odoloc::world::Vec2> grid =
+      odoloc::sim::grid_points(*s.tour.acoustics.room, *st.grid);
+  ASSERT_EQ(grid.size(), 81U);
+  EXPECT_EQ(grid.front().x_m, 1.0);
+  EXPECT_EQ(grid.back().y_m, 9.0);
+  // A stationary scenario has no path, and a point stands inside the room.
+  const std::string text(file->text);
+  EXPECT_NE(error_of(text + "path: {start: {x_m: 1, y_m: 1}, segments: [{duration_s: 1}]}\n")
+                .find("a path or stationary points, not both"),
+            std::string::npos);
+  EXPECT_NE(error_of(edited(text, "[7.339, 5.885]", "[7.339, 10.5]"))
+                .find("stationary point (7.339, 10.5) m is outside the room"),
+            std::string::npos);
+  EXPECT_NE(
+      error_of(edited(text, "fixes: 532", "fixes: 1")).find("point.fixes: '1' is not a whole"),
+      std::string::npos);
+}
+
 struct Mistake {
   const char* from;
   const char* to;

@@ -374,6 +374,32 @@ TEST(CommandOutputs, AScenarioNameReachesTheTerminalEscaped) {
   EXPECT_EQ(r.out.find('\x1b'), std::string::npos);
 }
 
+// A stationary scenario prints its table: each point's fixes beside the
+// paper's spread (here 3 fixes a point, not the paper's hundreds), and
+// writes nothing.
+TEST(CommandOutputs, AStationaryScenarioPrintsThePapersSpreadBesideItsOwn) {
+  const fs::path dir = fresh_dir("outputs", "stationary");
+  std::string text = slurp(kExamples / "scenarios" / "kleeman-stationary.yaml");
+  for (const char* n : {"fixes: 532", "fixes: 1684", "fixes: 639"})
+    text.replace(text.find(n), std::string(n).size(), "fixes: 3");
+  text.erase(text.find("  grid: {"),
+             text.find('\n', text.find("  grid: {")) + 1 - text.find("  grid: {"));
+  std::ofstream(dir / "three.yaml") << text;
+  const ChildResult r = run_in(dir, {"sim", "--scenario", "three.yaml"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("the robot standing, the ultrasonic fixes alone"), std::string::npos)
+      << r.out;
+  for (const char* row :
+       {"(4.223, 7.902)        3", "(4.003, 4.892)        3", "(7.339, 5.885)        3"})
+    EXPECT_NE(r.out.find(row), std::string::npos) << row << "\n" << r.out;
+  EXPECT_NE(r.out.find("8.0 / 11.0"), std::string::npos) << r.out;
+  const ChildResult refused = run_in(dir, {"sim", "--scenario", "three.yaml", "--out", "o"});
+  EXPECT_EQ(refused.code, 2);
+  EXPECT_NE(refused.err.find("a stationary scenario prints its table only"), std::string::npos)
+      << refused.err;
+  EXPECT_FALSE(fs::exists(dir / "o"));
+}
+
 TEST(CommandOutputs, SimDurationZeroIsRefused) {
   const fs::path dir = fresh_dir("outputs", "duration");
   const ChildResult zero = run_in(dir, {"sim", "--duration", "0", "--out", "d"});

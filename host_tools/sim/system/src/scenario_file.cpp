@@ -66,7 +66,7 @@ class ScenarioReader {
       r_.fail(root, "a scenario is a YAML mapping (docs/scenarios.md)");
     r_.check_keys(root, "scenario",
                   {"name", "seed", "room", "air", "noise", "beacons", "station", "robot", "path",
-                   "disturbances", "survey"});
+                   "stationary", "disturbances", "survey"});
     Scenario s;
     world::RoomTour& tour = s.tour;
     const std::string name = r_.scalar(r_.required(root, "name", "scenario"), "name");
@@ -83,7 +83,13 @@ class ScenarioReader {
     read_robot(r_.required(root, "robot", "scenario"), tour);
     if (const Node station = root["station"])
       read_station(station, tour);
-    const std::size_t laps = read_path(r_.required(root, "path", "scenario"), tour);
+    if (root["path"] && root["stationary"])
+      r_.fail(root["stationary"], "scenario: a path or stationary points, not both");
+    std::size_t laps = 0;
+    if (const Node points = root["stationary"])
+      s.stationary = read_stationary(points, tour);
+    else
+      laps = read_path(r_.required(root, "path", "scenario"), tour);
     tour.name = laps == 0 ? name : fmt::format("{} lap{} of {}", laps, laps == 1 ? "" : "s", name);
     tour.drive.name = tour.name;
     if (const Node d = root["disturbances"])
@@ -394,6 +400,46 @@ class ScenarioReader {
       r_.fail(node, "path.segments: at least one segment");
   }
 
+  Stationary read_stationary(const Node& node, const world::RoomTour& tour) const {
+    r_.check_keys(node, "stationary", {"points", "grid"});
+    if (!tour.acoustics.room)
+      r_.fail(node, "stationary: the points stand in a room (give 'room')");
+    const world::Room& room = *tour.acoustics.room;
+    Stationary out;
+    if (const Node points = node["points"]) {
+      r_.sequence(points, "stationary.points");
+      for (const Node& p : points) {
+        r_.check_keys(p, "stationary.points[]", {"position", "fixes", "paper_sd_mm"});
+        StandingPoint standing;
+        standing.position = point(r_.required(p, "position", "point"), "point.position");
+        if (!(standing.position.x_m > 0 && standing.position.x_m < room.width_m &&
+              standing.position.y_m > 0 && standing.position.y_m < room.depth_m))
+          r_.fail(p, fmt::format("stationary point ({}, {}) m is outside the room",
+                                 standing.position.x_m, standing.position.y_m));
+        standing.fixes = r_.whole(r_.required(p, "fixes", "point"), "point.fixes", 2, 100000);
+        if (const Node sd = p["paper_sd_mm"]) {
+          const std::vector<double> mm = r_.numbers(sd, "point.paper_sd_mm", 2);
+          standing.paper_sd_m = world::Vec2{mm[0] / 1000, mm[1] / 1000};
+        }
+        out.points.push_back(standing);
+      }
+    }
+    if (const Node g = node["grid"]) {
+      r_.check_keys(g, "stationary.grid", {"step_m", "margin_m", "fixes", "paper_worst_mm"});
+      StandingGrid& grid = out.grid.emplace();
+      grid.step_m = r_.number(r_.required(g, "step_m", "stationary.grid"), "grid.step_m", 0.1, 100);
+      grid.margin_m = r_.number_or(g, "margin_m", "stationary.grid", 1, 0.05, 100);
+      grid.fixes = r_.whole(r_.required(g, "fixes", "stationary.grid"), "grid.fixes", 1, 10000);
+      if (const Node w = g["paper_worst_mm"])
+        grid.paper_worst_m = r_.number(w, "grid.paper_worst_mm", 0, 1e6) / 1000;
+      if (2 * grid.margin_m >= std::min(room.width_m, room.depth_m))
+        r_.fail(g, "stationary.grid: the margins leave no floor");
+    }
+    if (out.points.empty() && !out.grid)
+      r_.fail(node, "stationary: at least one point or a grid");
+    return out;
+  }
+
   Wheel wheel(const Node& node, std::string_view where, bool both_rear_allowed,
               bool* both_rear) const {
     const std::string w = r_.scalar(node, where);
@@ -510,6 +556,8 @@ class ScenarioReader {
                                                          : std::string("the station"),
                             tour.acoustics.beacons[i].position.x_m,
                             tour.acoustics.beacons[i].position.y_m, room->width_m, room->depth_m));
+    if (root["stationary"])
+      return;  // read_stationary checked its points
     const world::Pose& start = tour.drive.start;
     if (!inside({start.x_m, start.y_m}))
       r_.fail(root["path"]["start"],
@@ -522,6 +570,18 @@ class ScenarioReader {
 };
 
 }  // namespace
+
+std::vector<world::Vec2> grid_points(const world::Room& room, const StandingGrid& grid) {
+  // Counted, not accumulated: no point lost to a rounding of the step.
+  const auto count = [&](double side_m) {
+    return static_cast<int>(std::floor((side_m - 2 * grid.margin_m) / grid.step_m + 1e-9)) + 1;
+  };
+  std::vector<world::Vec2> points;
+  for (int j = 0; j < count(room.depth_m); ++j)
+    for (int i = 0; i < count(room.width_m); ++i)
+      points.push_back({grid.margin_m + i * grid.step_m, grid.margin_m + j * grid.step_m});
+  return points;
+}
 
 Scenario parse_scenario(const std::string& text, std::string_view file,
                         const ScenarioOverrides& overrides) {

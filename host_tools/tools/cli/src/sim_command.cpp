@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -23,6 +24,7 @@
 #include "odoloc/plot/log_series.hpp"
 #include "odoloc/sim/runner.hpp"
 #include "odoloc/sim/scenario_file.hpp"
+#include "odoloc/sim/stationary.hpp"
 #include "odoloc/yaml/reader.hpp"
 
 namespace odoloc::cli {
@@ -67,6 +69,97 @@ nlohmann::json updates_json(const sw::fuse::PoseEkf& filter) {
   return types;
 }
 
+// Kleeman's stationary experiment: each point's fixes, their spread beside
+// the paper's, then the grid's worst error beside the paper's bound.
+void run_stationary(const sim::Scenario& scenario, const sim::SystemOptions& options,
+                    std::ostream& out, bool json) {
+  const sim::Stationary& plan = *scenario.stationary;
+  const auto mm = [](double m) { return m * 1e3; };
+  // Millimetres to one decimal, "-" for a figure there is none of (no fix).
+  const auto figure = [&](double m) {
+    return std::isnan(m) ? std::string("-") : fmt::format("{:.1f}", mm(m));
+  };
+  nlohmann::json points = nlohmann::json::array();
+  if (!json)
+    out << fmt::format(
+               "odoloc sim: {}, seed {}: the robot standing, the ultrasonic fixes alone\n\n",
+               output::printable(scenario.tour.name), options.seed)
+        << fmt::format("{:<18} {:>6} {:>7} {:>11} {:>10} {:>10} {:>10}   {}\n", "point (m)",
+                       "fixes", "cycles", "mean error", "sd x (mm)", "sd y (mm)", "worst (mm)",
+                       "the paper's sd x / y (mm)")
+        << std::flush;
+  const auto row = [&](const sim::Standing& s, const std::optional<world::Vec2>& paper) {
+    const double mean_error = std::hypot(s.mean_m.x_m - s.truth.x_m, s.mean_m.y_m - s.truth.y_m);
+    if (json) {
+      nlohmann::json p = {{"x_m", s.truth.x_m},         {"y_m", s.truth.y_m},
+                          {"fixes", s.fixes.size()},    {"cycles", s.cycles},
+                          {"mean_error_m", mean_error}, {"sd_x_m", s.sd_m.x_m},
+                          {"sd_y_m", s.sd_m.y_m},       {"worst_m", s.worst_m}};
+      if (paper)
+        p["paper_sd_m"] = {paper->x_m, paper->y_m};
+      points.push_back(p);
+      return;
+    }
+    out << fmt::format("({:.3f}, {:.3f})   {:>6} {:>7} {:>8} mm {:>10} {:>10} {:>10}   {}\n",
+                       s.truth.x_m, s.truth.y_m, s.fixes.size(), s.cycles, figure(mean_error),
+                       figure(s.sd_m.x_m), figure(s.sd_m.y_m), figure(s.worst_m),
+                       paper ? fmt::format("{:.1f} / {:.1f}", mm(paper->x_m), mm(paper->y_m))
+                             : std::string("-"))
+        << std::flush;
+  };
+  for (const sim::StandingPoint& p : plan.points)
+    row(sim::measure_standing(scenario, p.position, p.fixes, options), p.paper_sd_m);
+  nlohmann::json grid_json;
+  if (plan.grid) {
+    const std::vector<world::Vec2> grid =
+        sim::grid_points(*scenario.tour.acoustics.room, *plan.grid);
+    double worst_m = 0;
+    world::Vec2 worst_at;
+    std::vector<world::Vec2> short_of_fixes;  // far beacons unheard (docs/scenarios.md)
+    for (const world::Vec2& p : grid) {
+      const sim::Standing s = sim::measure_standing(scenario, p, plan.grid->fixes, options);
+      if (s.fixes.size() < plan.grid->fixes)
+        short_of_fixes.push_back(p);
+      if (s.worst_m >= worst_m) {
+        worst_m = s.worst_m;
+        worst_at = p;
+      }
+    }
+    const std::string paper =
+        plan.grid->paper_worst_m
+            ? fmt::format(" (the paper: within {:.0f} mm)", mm(*plan.grid->paper_worst_m))
+            : std::string();
+    if (json) {
+      nlohmann::json short_json = nlohmann::json::array();
+      for (const world::Vec2& p : short_of_fixes)
+        short_json.push_back({p.x_m, p.y_m});
+      grid_json = {{"points", grid.size()},     {"fixes_each", plan.grid->fixes},
+                   {"worst_m", worst_m},        {"worst_x_m", worst_at.x_m},
+                   {"worst_y_m", worst_at.y_m}, {"short_of_fixes", short_json}};
+      if (plan.grid->paper_worst_m)
+        grid_json["paper_worst_m"] = *plan.grid->paper_worst_m;
+    } else {
+      std::vector<std::string> named;
+      for (const world::Vec2& p : short_of_fixes)
+        named.push_back(fmt::format("({:g}, {:g})", p.x_m, p.y_m));
+      out << fmt::format(
+          "\nover the floor: {} points {} m apart, {} fixes each: the worst fix {:.1f} mm from "
+          "the truth, at ({:.2f}, {:.2f}){}\n",
+          grid.size(), plan.grid->step_m, plan.grid->fixes, mm(worst_m), worst_at.x_m, worst_at.y_m,
+          paper);
+      if (!short_of_fixes.empty())
+        out << fmt::format("{} points had fewer fixes: {}\n", short_of_fixes.size(),
+                           fmt::join(named, " "));
+    }
+  }
+  if (json) {
+    nlohmann::json j = {{"scenario", scenario.tour.name}, {"points", points}};
+    if (plan.grid)
+      j["grid"] = grid_json;
+    out << json_line(j) << '\n';
+  }
+}
+
 }  // namespace
 
 void run_sim(const SimCommand& command, std::ostream& out, bool json,
@@ -86,6 +179,16 @@ void run_sim(const SimCommand& command, std::ostream& out, bool json,
   const std::uint64_t seed = command.seed.value_or(scenario.seed);
   if (command.duration_s && !(*command.duration_s > 0 && *command.duration_s <= 1e4))
     throw UsageError("--duration must be more than 0 and at most 10000 s");
+  if (scenario.stationary) {
+    if (!command.out.empty() || !command.lcm_url.empty() || command.realtime ||
+        command.duration_s || command.no_beacon_ranges)
+      throw UsageError(
+          "a stationary scenario prints its table only: no --out, --lcm-url, --realtime, "
+          "--duration or --no-beacon-ranges");
+    run_stationary(scenario, {.seed = seed, .cycle_step = command.cycle_step, .stop = stop}, out,
+                   json);
+    return;
+  }
   // With --out every file is made in a staging folder in DIR and delivered
   // only when the run and the plot are done (output::OutputFile: whole, a
   // device or FIFO written to, a link followed): an error or a signal leaves

@@ -40,10 +40,36 @@ struct Survey {
   std::optional<SurveyedStation> station;
 };
 
+// A stationary experiment (Kleeman's: the robot standing at surveyed
+// points, the ultrasonic fixes' spread): instead of driving a path, the
+// robot stands at each point in turn until it has that many fixes.
+struct StandingPoint {
+  world::Vec2 position;
+  std::size_t fixes = 0;
+  std::optional<world::Vec2> paper_sd_m;  // the paper's standard deviations in x and y
+};
+struct StandingGrid {
+  double step_m = 1;    // points this far apart over the room's floor
+  double margin_m = 1;  // from the walls
+  std::size_t fixes = 3;
+  std::optional<double> paper_worst_m;  // the paper's bound on every point's error
+};
+struct Stationary {
+  std::vector<StandingPoint> points;
+  std::optional<StandingGrid> grid;
+};
+// The grid's points: step_m apart, margin_m from the walls, row by row
+// from (margin, margin).
+[[nodiscard]] std::vector<world::Vec2> grid_points(const world::Room& room,
+                                                   const StandingGrid& grid);
+
 struct Scenario {
   world::RoomTour tour;  // the truth: what the world simulates
   Survey survey;         // what the SoC software is configured from
   std::uint64_t seed = 1;
+  // Set: the scenario stands at points (tour.drive has no path; each
+  // point's run sets its start and stands, sim::stand_at).
+  std::optional<Stationary> stationary;
 };
 
 // Command-line changes to a file's path (`odoloc sim --laps --speed`).
