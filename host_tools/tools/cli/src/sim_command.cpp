@@ -319,14 +319,24 @@ void run_sim(const SimCommand& command, std::ostream& out, bool json,
              summary.simulated_s, wall_s, summary.wall_s, summary.simulated_s / summary.wall_s,
              summary.clocks)
       << report.table();
+  // The papers' figures beside ours: Liu's return to the start (with his
+  // base station), Kurian's min-select against either set of wheels alone.
   const sim::SourceErrors fused = report.errors(sim::Source::kFused);
   if (system.cut_short())
     out << "\nreturn to start: none, the run stopped before the tour's end (--duration)\n";
   else
     out << fmt::format(
         "\nreturn to start (the robot stops where it started): fused estimate {:.1f} mm from "
-        "the start (Liu et al. report about 100 mm)\n",
-        fused.return_to_start_m * 1e3);
+        "the start{}\n",
+        fused.return_to_start_m * 1e3,
+        system.tour().station ? " (Liu et al. report about 100 mm)" : "");
+  out << fmt::format(
+      "humps and slip: min-select odometry RMS {:.1f} mm beside rear-only {:.1f} mm and "
+      "front-only {:.1f} mm (Kurian et al.: the smaller increments drop the over-counts; they "
+      "give no figure)\n",
+      report.errors(sim::Source::kMinSelect).rms_position_m * 1e3,
+      report.errors(sim::Source::kRearOdometry).rms_position_m * 1e3,
+      report.errors(sim::Source::kFrontOdometry).rms_position_m * 1e3);
   out << '\n' << sim::update_summary(system.localiser().filter());
   if (live)
     out << fmt::format("register bridge: {} served, {} refused, {} errors; {} malformed messages\n",
