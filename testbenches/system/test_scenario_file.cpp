@@ -174,6 +174,16 @@ TEST(ScenarioFile, EveryMistakeNamesTheFileAndTheLine) {
        "fire_s: ["},
       {"    station_laser_start_deg: -80\n", "", "missing 'station_laser_start_deg'",
        "    position: [0.3, 5.0]\n    t0_s"},
+      // What the world refuses, at the section that asked for it.
+      {"steer_deg: 30}", "steer_deg: 2}", "square_path: the turn radius exceeds half the side",
+       "side_m: 6"},
+      {"  receivers:\n    octagon", "  steering: {limit_deg: 20}\n  receivers:\n    octagon",
+       "segment steers beyond the limit", "  start: {x_m: 2"},
+      {"height_m: 0.025, length_m: 0.30}\n    - {wheel: right_rear",
+       "height_m: 0.2, length_m: 0.05}\n    - {wheel: right_rear", "bump too sharp for the wheel",
+       "  each_lap: true"},
+      {"  fire_s: 0.150\n", "  fire_s: 0.150\n  pulse_s: 0.1\n", "the pulses do not fit in a slot",
+       "  height_m: 0\n  fire_s"},
       // yaml-cpp names the line where it found the list unclosed.
       {"name: the 6 m square", "name: [the 6 m square", "YAML:", "seed: 1"},
   };

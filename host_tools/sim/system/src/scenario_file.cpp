@@ -6,6 +6,7 @@
 #include <fstream>
 #include <numbers>
 #include <sstream>
+#include <stdexcept>
 
 #include "odoloc/output/printable.hpp"
 
@@ -85,12 +86,14 @@ class ScenarioReader {
       read_station(station, tour);
     if (root["path"] && root["stationary"])
       r_.fail(root["stationary"], "scenario: a path or stationary points, not both");
-    std::size_t laps = 0;
+    Laps laps;
     if (const Node points = root["stationary"])
       s.stationary = read_stationary(points, tour);
     else
       laps = read_path(r_.required(root, "path", "scenario"), tour);
-    tour.name = laps == 0 ? name : fmt::format("{} lap{} of {}", laps, laps == 1 ? "" : "s", name);
+    tour.name = laps.count == 0
+                    ? name
+                    : fmt::format("{} lap{} of {}", laps.count, laps.count == 1 ? "" : "s", name);
     tour.drive.name = tour.name;
     if (const Node d = root["disturbances"])
       read_disturbances(d, laps, tour.drive);
@@ -100,6 +103,17 @@ class ScenarioReader {
   }
 
  private:
+  // What the world's own constructors refuse (std::invalid_argument) is an
+  // error at `node`, the section that made it.
+  template <class Build>
+  auto world_checked(const Node& node, Build&& build) const {
+    try {
+      return build();
+    } catch (const std::invalid_argument& e) {
+      r_.fail(node, e.what());
+    }
+  }
+
   Vec2 point(const Node& node, std::string_view where) const {
     const std::vector<double> xy = r_.numbers(node, where, 2);
     return {xy[0], xy[1]};
@@ -207,6 +221,7 @@ class ScenarioReader {
       r_.fail(list, fmt::format("beacons.list: {} beacons; Kleeman's system needs 3 to 16",
                                 w.beacons.size()));
     t.beacon_count = w.beacons.size();
+    world_checked(node, [&] { return world::kleeman_schedule(t, 1); });
   }
 
   void read_station(const Node& node, world::RoomTour& tour) const {
@@ -321,8 +336,12 @@ class ScenarioReader {
       r_.fail(list, "robot.receivers.list: 1 to 8 receivers (the capture unit's channels)");
   }
 
-  // The path; returns its laps (0: a path without laps).
-  std::size_t read_path(const Node& node, world::RoomTour& tour) const {
+  // A path's laps: how many (0: a path without laps) and the odometer of one.
+  struct Laps {
+    std::size_t count = 0;
+    double metres = 0;
+  };
+  Laps read_path(const Node& node, world::RoomTour& tour) const {
     r_.check_keys(node, "path",
                   {"start", "wait_s", "laps", "square", "segments", "steer_rate_degps"});
     world::Scenario& drive = tour.drive;
@@ -341,6 +360,7 @@ class ScenarioReader {
     if (node["square"] && node["segments"])
       r_.fail(node, "path: a square or segments, not both");
     world::Path lap;
+    double lap_m = 0;
     if (const Node sq = node["square"]) {
       r_.check_keys(sq, "path.square", {"side_m", "speed_mps", "steer_deg"});
       const double side = r_.number(r_.required(sq, "side_m", "path.square"), "side_m", 0.5, 1000);
@@ -349,15 +369,16 @@ class ScenarioReader {
         speed = *overrides_.speed_mps;
       const double steer =
           r_.number(r_.required(sq, "steer_deg", "path.square"), "steer_deg", 1, 40) * kDeg;
-      lap = world::square_path(drive.geometry, side, speed, steer);
+      lap =
+          world_checked(sq, [&] { return world::square_path(drive.geometry, side, speed, steer); });
       // The odometer of one lap: four straights and four quarter turns.
       const double radius = drive.geometry.wheelbase_m / std::tan(steer);
-      lap_m_ = 4 * (side - 2 * radius) + 2 * std::numbers::pi * radius;
+      lap_m = 4 * (side - 2 * radius) + 2 * std::numbers::pi * radius;
     } else {
       if (overrides_.speed_mps)
         r_.fail(node, "--speed: only a square path has one speed");
       read_segments(r_.required(node, "segments", "path"), lap);
-      lap_m_ = path_metres(lap);
+      lap_m = path_metres(lap);
     }
     if (const Node rate = node["steer_rate_degps"])
       lap.steer_rate_radps = r_.number(rate, "path.steer_rate_degps", 1, 3600) * kDeg;
@@ -368,7 +389,10 @@ class ScenarioReader {
                                  lap.segments.end());
     drive.path.segments.push_back(world::Segment::duration(0, 0, wait_s));
     tour.duration_s = path_seconds(drive.path);
-    return laps;
+    // The tricycle's own checks (a steering angle beyond the limit, ...).
+    world_checked(node,
+                  [&] { return world::TricycleSimulator(drive.geometry, drive.path, {}, {}); });
+    return {laps, lap_m};
   }
   void read_segments(const Node& node, world::Path& path) const {
     r_.sequence(node, "path.segments");
@@ -458,13 +482,13 @@ class ScenarioReader {
                         output::printable_excerpt(w), both_rear_allowed ? ", both_rear" : ""));
   }
 
-  void read_disturbances(const Node& node, std::size_t laps, world::Scenario& drive) const {
+  void read_disturbances(const Node& node, Laps laps, world::Scenario& drive) const {
     r_.check_keys(node, "disturbances", {"each_lap", "bumps", "slips"});
     const bool each_lap = node["each_lap"] && r_.scalar(node["each_lap"], "each_lap") == "true";
-    if (each_lap && laps == 0)
+    if (each_lap && laps.count == 0)
       r_.fail(node, "disturbances.each_lap: the path has no laps");
-    for (std::size_t l = 0; l < (each_lap ? laps : 1); ++l) {
-      const double at = static_cast<double>(l) * lap_m_;
+    for (std::size_t l = 0; l < (each_lap ? laps.count : 1); ++l) {
+      const double at = static_cast<double>(l) * laps.metres;
       if (const Node bumps = node["bumps"]) {
         r_.sequence(bumps, "disturbances.bumps");
         for (const Node& b : bumps) {
@@ -499,6 +523,10 @@ class ScenarioReader {
         }
       }
     }
+    // The tricycle's own checks (a bump too sharp for its wheel, ...).
+    world_checked(node, [&] {
+      return world::TricycleSimulator(drive.geometry, drive.path, drive.disturbances, {});
+    });
   }
 
   void read_survey(const Node& node, const world::RoomTour& tour, Survey& survey) const {
@@ -566,7 +594,6 @@ class ScenarioReader {
 
   yaml::Reader r_;
   ScenarioOverrides overrides_;
-  mutable double lap_m_ = 0;  // the odometer of one lap of the path (m)
 };
 
 }  // namespace
