@@ -55,6 +55,14 @@ void LocaliserConfig::validate() const {
                   "capture_period_s must be in [0, 1] s");
   detail::require(static_cast<int>(layout.beacons.size()) == kleeman.schedule.beacons, kOwner,
                   "layout must have one beacon per kleeman.schedule.beacons");
+  const bool beacons = kleeman.schedule.beacons > 0;
+  detail::require(beacons || (station && start_covariance), kOwner,
+                  "without beacons the base station and start_covariance are needed");
+  detail::require(!start_covariance || start_covariance->allFinite(), kOwner,
+                  "start_covariance must be finite");
+  detail::require(!liu_filter || station, kOwner, "liu_filter needs the base station");
+  if (liu_filter)
+    liu_filter->validate();
   // A cycle's ranges are fused when the cycle is complete, up to two
   // cycles after beacon 0's arrival: the filter must keep that much.
   detail::require(ekf.history_s >= 2 * kleeman.schedule.cycle_s(), kOwner,
@@ -63,11 +71,13 @@ void LocaliserConfig::validate() const {
     station->validate();
     detail::require(capture.sync_enable, kOwner,
                     "the base station needs capture.sync_enable (its packets' strobes)");
-    detail::require(kleeman.schedule.reserved_slots >= 1, kOwner,
+    detail::require(!beacons || kleeman.schedule.reserved_slots >= 1, kOwner,
                     "the base station needs kleeman.schedule.reserved_slots >= 1 (its bursts)");
   }
-  layout.validate();
-  kleeman.validate();
+  if (beacons) {
+    layout.validate();
+    kleeman.validate();
+  }
   multilateration.validate();
   ekf.validate();
 }
@@ -76,15 +86,28 @@ Localiser::Localiser(RegisterBus& bus, const LocaliserConfig& config, station::L
     : config_((config.validate(), config)),
       odometry_(bus),
       capture_(bus, config.capture),
-      decoder_([&] {
-        tof::KleemanConfig k = config.kleeman;
-        k.timebase = capture_.timebase();
-        return k;
-      }()),
       ekf_(config.ekf),
       link_(link) {
   detail::require(!config_.station || link_ != nullptr, "Localiser",
                   "a base station (config.station) needs a station::Link");
+  if (config_.kleeman.schedule.beacons > 0) {
+    tof::KleemanConfig k = config_.kleeman;
+    k.timebase = capture_.timebase();
+    decoder_.emplace(std::move(k));
+  }
+  if (config_.station) {
+    const tof::KleemanConfig& k = config_.kleeman;
+    listener_.emplace(station::BurstListenerConfig{.array = k.array,
+                                                   .envelope = k.envelope,
+                                                   .speed_of_sound_mps = k.speed_of_sound_mps,
+                                                   .max_range_m = config_.station->max_range_m,
+                                                   .min_width_s = k.min_width_s,
+                                                   .timing_sd_s = k.timing_sd_s,
+                                                   .group_margin_s = k.group_margin_s,
+                                                   .min_receivers = k.min_receivers});
+  }
+  if (config_.liu_filter)
+    liu_.emplace(*config_.liu_filter);
   odometry_.configure(config_.vehicle, config_.min_select, config_.update_clocks, config_.policy);
   odometry_.set_pose(config_.start_pose.x(), config_.start_pose.y(), config_.start_pose.z());
   std::uint32_t armed = 0;
@@ -104,30 +127,39 @@ LocaliserStep Localiser::step() {
   const fuse::Pose pose{{out.odometry.x_m, out.odometry.y_m, out.odometry.theta_rad}};
   out.increment = fuse::increment_between(
       track_.empty() ? fuse::Pose{config_.start_pose} : track_.back().pose, pose);
-  if (!track_.empty())
+  if (!track_.empty()) {
     ekf_.predict(out.time_s, fuse::Increment{out.increment});
+    if (liu_)
+      liu_->predict(out.time_s, out.increment);
+  } else if (config_.start_covariance) {
+    ekf_.initialise(out.time_s, pose, *config_.start_covariance);
+    start_liu_filter();
+  }
   track_.push_back({out.time_s, pose});
   // Kept: the filter's history and the cycle being decoded.
   const double keep_s = config_.ekf.history_s + config_.kleeman.schedule.cycle_s();
   while (track_.size() > 2 && track_[1].time_s < out.time_s - keep_s)
     track_.pop_front();
 
-  if (last_drain_s_ >= 0 && out.time_s - last_drain_s_ < config_.capture_period_s) {
-    out.estimate = ekf_.estimate();
-    return out;
-  }
-  last_drain_s_ = out.time_s;
-  out.batch = capture_.read();
-  if (config_.station)
-    take_packets(*out.batch, out);
-  for (tof::CycleMeasurement& m : decoder_.push(*out.batch)) {
-    CycleResult& cycle = out.cycles.emplace_back();
-    cycle.measurement = std::move(m);
-    process(cycle);
+  if (last_drain_s_ < 0 || out.time_s - last_drain_s_ >= config_.capture_period_s) {
+    last_drain_s_ = out.time_s;
+    out.batch = capture_.read();
     if (config_.station)
-      take_ranges(cycle.measurement, out);
+      take_packets(*out.batch, out);
+    if (decoder_)
+      for (tof::CycleMeasurement& m : decoder_->push(*out.batch)) {
+        CycleResult& cycle = out.cycles.emplace_back();
+        cycle.measurement = std::move(m);
+        process(cycle);
+      }
+    if (config_.station) {
+      listener_->push(*out.batch);
+      take_ranges(out);
+    }
   }
   out.estimate = ekf_.estimate();
+  if (liu_)
+    out.liu = liu_->estimate();
   return out;
 }
 
@@ -183,6 +215,14 @@ void Localiser::initialise_from(const CycleResult& cycle) {
     ekf_.predict(s.time_s, fuse::Increment{fuse::increment_between(from, s.pose)});
     from = s.pose;
   }
+  start_liu_filter();
+}
+
+void Localiser::start_liu_filter() {
+  if (liu_) {
+    const fuse::Estimate e = ekf_.estimate();
+    liu_->initialise(e.time_s, e.pose);
+  }
 }
 
 fuse::RangeSet Localiser::motion_compensated(const tof::CycleMeasurement& cycle) const {
@@ -222,12 +262,19 @@ void Localiser::take_packets(const tof::CaptureBatch& batch, LocaliserStep& out)
   while (const std::optional<station::TimedReport> p = packets_.next()) {
     const station::Report& r = p->report;
     switch (r.kind) {
-      case station::ReportKind::kStationSawRobot:
-        fuse_station({p->time_s, station::station_bearing(st, r.count)}, out);
+      case station::ReportKind::kStationSawRobot: {
+        const fuse::StationBearing alpha = station::station_bearing(st, r.count);
+        last_alpha_ = Alpha{p->time_s, alpha.bearing_rad};
+        fuse_station({p->time_s, alpha}, out);
         break;
-      case station::ReportKind::kRobotSawStation:
-        fuse_station({p->time_s, station::robot_bearing(st, r.count)}, out);
+      }
+      case station::ReportKind::kRobotSawStation: {
+        const fuse::RobotBearing beta = station::robot_bearing(st, r.count);
+        if (liu_)
+          liu_->fuse_heading(beta.bearing_rad, beta.station_m);
+        fuse_station({p->time_s, beta}, out);
         break;
+      }
       case station::ReportKind::kRanging:
         rangings_.push_back(p->time_s);
         break;
@@ -235,35 +282,48 @@ void Localiser::take_packets(const tof::CaptureBatch& batch, LocaliserStep& out)
   }
 }
 
-void Localiser::take_ranges(const tof::CycleMeasurement& cycle, LocaliserStep& out) {
+void Localiser::take_ranges(LocaliserStep& out) {
   const station::StationConfig& st = *config_.station;
-  const tof::BeaconSchedule& schedule = config_.kleeman.schedule;
-  const double c = cycle.speed_of_sound_mps;
-  const double reserved_start = cycle.anchor_s + schedule.beacons * cycle.fire_period_s;
-  const double cycle_end = cycle.anchor_s + schedule.cycle_s();
+  const double c = config_.kleeman.speed_of_sound_mps;
   // Quantisation of the two timestamps (the packet's edge, the arrival's).
   const double tick_sd_m = c * std::sqrt(2.0) * capture_.timebase().quantisation_sd_s();
-  while (!rangings_.empty() && rangings_.front() + st.t0_s < cycle_end) {
+  while (!rangings_.empty()) {
     const double sent_s = rangings_.front() + st.t0_s;  // the burst leaves the station
+    const station::BurstResult heard = listener_->listen(sent_s);
+    if (heard.status == station::BurstStatus::kPending)
+      break;
     rangings_.pop_front();
-    // The first wavefront heard by enough receivers after the burst left,
-    // within the range looked for: later ones are echoes.
-    const auto first = std::ranges::find_if(cycle.reserved, [&](const tof::Arrival& a) {
-      const double flight_s = reserved_start + a.time_s - sent_s;
-      return usable(a) && std::popcount(a.receivers) >= config_.kleeman.min_receivers &&
-             flight_s > 0 && flight_s * c <= st.max_range_m;
-    });
-    if (first == cycle.reserved.end())
+    if (heard.status != station::BurstStatus::kHeard)
       continue;
-    const double arrival_s = reserved_start + first->time_s;
+    const double arrival_s = heard.burst.arrival_s;
     fuse::StationRange range;
     range.station_m = st.position_m;
     range.height_m = st.height_m;
     range.distance_m = c * (arrival_s - sent_s);  // Liu eq. 14.8
-    range.sd_m = std::sqrt(first->sd_m * first->sd_m + st.chain_sd_m * st.chain_sd_m +
+    const double timing_sd_m = c * heard.burst.sd_s;
+    range.sd_m = std::sqrt(timing_sd_m * timing_sd_m + st.chain_sd_m * st.chain_sd_m +
                            tick_sd_m * tick_sd_m);
+    fuse_liu_fix(arrival_s, range);
     fuse_station({arrival_s, range}, out);
   }
+  // Kept: the bursts of the rangings still waiting, and the next ones'.
+  const double oldest_s = rangings_.empty() ? out.time_s : rangings_.front();
+  listener_->drop_before(std::min(oldest_s, out.time_s - config_.capture_period_s) - 1.0);
+}
+
+void Localiser::fuse_liu_fix(double time_s, const fuse::StationRange& range) {
+  // The station bursts after each hit of its laser: a range belongs to the
+  // last alpha if it comes within a cycle and the longest flight of it.
+  const double pairing_s = config_.kleeman.schedule.cycle_s() +
+                           config_.station->max_range_m / config_.kleeman.speed_of_sound_mps;
+  if (!liu_ || !last_alpha_ || time_s - last_alpha_->time_s > pairing_s)
+    return;
+  const double planar_m = std::sqrt(
+      std::max(0.0, range.distance_m * range.distance_m - range.height_m * range.height_m));
+  const fuse::Vector2 fix =
+      fuse::LiuFilter::absolute_position(range.station_m, last_alpha_->bearing_rad, planar_m);
+  last_alpha_.reset();
+  liu_->fuse_fix(fix, fuse::increment_between(odometry_at(time_s), track_.back().pose));
 }
 
 void Localiser::fuse_station(StationUpdate update, LocaliserStep& out) {

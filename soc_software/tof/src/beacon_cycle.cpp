@@ -193,7 +193,6 @@ void BeaconCycleDecoder::ingest(const CaptureBatch& batch) {
         return true;
     return false;
   };
-  const double quantisation = config_.timebase.quantisation_sd_s();
   // The FIFOs are drained in the bursts right after the timestamp is read:
   // nothing can be stamped a second later.
   const Tick future = batch.read_tick + static_cast<Tick>(std::ceil(1.0 / tick));
@@ -232,17 +231,13 @@ void BeaconCycleDecoder::ingest(const CaptureBatch& batch) {
         noise_.push_back({channel, rise});
         continue;
       }
-      const EnvelopeModel::Inverse comp = config_.envelope.invert_width(width);
-      const double t = rise - comp.delay_s;
-      if (t < dropped_before_s_) {  // for time already decoded
+      const CompensatedPulse p =
+          compensate_pulse(config_.envelope, rise, width, tick, config_.timing_sd_s);
+      if (p.time_s < dropped_before_s_) {  // for time already decoded
         ++dropped_pending_;
         continue;
       }
-      const double width_noise = comp.ddelay_dwidth * tick / std::sqrt(6.0);
-      const double sd =
-          std::sqrt(quantisation * quantisation + config_.timing_sd_s * config_.timing_sd_s +
-                    width_noise * width_noise);
-      pulses_.push_back({channel, e.rise, e.width, t, sd, comp});
+      pulses_.push_back({channel, e.rise, e.width, p.time_s, p.sd_s, p.compensation});
     }
   }
   std::stable_sort(pulses_.begin(), pulses_.end(),

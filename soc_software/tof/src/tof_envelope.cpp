@@ -74,4 +74,16 @@ EnvelopeModel::Inverse EnvelopeModel::invert_width(double width) const {
   return out;
 }
 
+CompensatedPulse compensate_pulse(const EnvelopeModel& model, double rise_s, double width_s,
+                                  double tick_s, double timing_sd_s) {
+  CompensatedPulse p;
+  p.compensation = model.invert_width(width_s);
+  p.time_s = rise_s - p.compensation.delay_s;
+  const double quantisation = tick_s / std::sqrt(12.0);
+  const double width_noise = p.compensation.ddelay_dwidth * tick_s / std::sqrt(6.0);
+  p.sd_s = std::sqrt(quantisation * quantisation + timing_sd_s * timing_sd_s +
+                     width_noise * width_noise);
+  return p;
+}
+
 }  // namespace odoloc::sw::tof

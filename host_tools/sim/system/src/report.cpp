@@ -32,6 +32,8 @@ std::string_view name(Source source) {
       return "ultrasonic fixes alone";
     case Source::kFused:
       return "fused (EKF)";
+    case Source::kLiuFilter:
+      return "Liu et al.'s filter";
   }
   return "?";
 }
@@ -66,11 +68,19 @@ SourceErrors ErrorReport::errors(Source source) const {
   return e;
 }
 
+std::vector<Source> ErrorReport::sources() const {
+  std::vector<Source> out;
+  for (const Source source : kAllSources)
+    if (source != Source::kLiuFilter || sums_[static_cast<std::size_t>(source)].n > 0)
+      out.push_back(source);
+  return out;
+}
+
 std::string ErrorReport::table() const {
   std::string out =
       fmt::format("{:<24} {:>8} {:>11} {:>11} {:>10} {:>10} {:>13}\n", "source", "samples",
                   "final (mm)", "final (deg)", "RMS (mm)", "RMS (deg)", "return (mm)");
-  for (const Source source : kAllSources) {
+  for (const Source source : sources()) {
     const SourceErrors e = errors(source);
     if (e.samples == 0) {
       out += fmt::format("{:<24} {:>8}\n", name(source), 0);

@@ -67,7 +67,7 @@ class ScenarioReader {
       r_.fail(root, "a scenario is a YAML mapping (docs/scenarios.md)");
     r_.check_keys(root, "scenario",
                   {"name", "seed", "room", "air", "noise", "beacons", "station", "robot", "path",
-                   "stationary", "disturbances", "survey"});
+                   "stationary", "disturbances", "survey", "liu_filter"});
     Scenario s;
     world::RoomTour& tour = s.tour;
     const std::string name = r_.scalar(r_.required(root, "name", "scenario"), "name");
@@ -80,10 +80,17 @@ class ScenarioReader {
       read_air(air, w.air);
     if (const Node noise = root["noise"])
       read_noise(noise, w.noise);
-    read_beacons(r_.required(root, "beacons", "scenario"), tour);
+    if (const Node beacons = root["beacons"])
+      read_beacons(beacons, tour);
+    else
+      tour.timing.beacon_count = 0;
     read_robot(r_.required(root, "robot", "scenario"), tour);
     if (const Node station = root["station"])
       read_station(station, tour);
+    else if (!root["beacons"])
+      r_.fail(root, "scenario: no 'beacons' and no 'station': nothing to localise with");
+    if (root["stationary"] && !root["beacons"])
+      r_.fail(root["stationary"], "stationary: Kleeman's experiment needs 'beacons'");
     if (root["path"] && root["stationary"])
       r_.fail(root["stationary"], "scenario: a path or stationary points, not both");
     Laps laps;
@@ -98,6 +105,8 @@ class ScenarioReader {
     if (const Node d = root["disturbances"])
       read_disturbances(d, laps, tour.drive);
     read_survey(r_.required(root, "survey", "scenario"), tour, s.survey);
+    if (const Node liu = root["liu_filter"])
+      read_liu_filter(liu, tour, s.survey);
     check_inside(root, tour);
     return s;
   }
@@ -233,7 +242,8 @@ class ScenarioReader {
     station.position = point(r_.required(node, "position", "station"), "station.position");
     station.transmitter = w.beacons.size();
     // The beacons' transmitter unless the station says otherwise.
-    world::Beacon tx = transmitter(node, "station", w.beacons.front());
+    world::Beacon tx =
+        transmitter(node, "station", w.beacons.empty() ? world::Beacon{} : w.beacons.front());
     tx.position = station.position;
     tx.axes_rad = axes(r_.required(node, "axes_deg", "station"), "station.axes_deg");
     tx.electronics_delay_s = r_.number_or(node, "t0_s", "station", 0, 0, 1);
@@ -532,14 +542,27 @@ class ScenarioReader {
   void read_survey(const Node& node, const world::RoomTour& tour, Survey& survey) const {
     r_.check_keys(node, "survey",
                   {"beacons", "beacon_height_m", "temperature_c", "envelope_tau_s", "path_jitter_s",
-                   "receiver_jitter_s", "station"});
-    const Node beacons = r_.required(node, "beacons", "survey");
-    r_.sequence(beacons, "survey.beacons");
-    for (const Node& b : beacons)
-      survey.beacons.push_back(point(b, "survey.beacons[]"));
-    if (survey.beacons.size() != tour.timing.beacon_count)
-      r_.fail(beacons, fmt::format("survey.beacons: {} positions for {} beacons",
-                                   survey.beacons.size(), tour.timing.beacon_count));
+                   "receiver_jitter_s", "station", "start"});
+    if (tour.timing.beacon_count > 0 || node["beacons"]) {
+      const Node beacons = r_.required(node, "beacons", "survey");
+      r_.sequence(beacons, "survey.beacons");
+      for (const Node& b : beacons)
+        survey.beacons.push_back(point(b, "survey.beacons[]"));
+      if (survey.beacons.size() != tour.timing.beacon_count)
+        r_.fail(beacons, fmt::format("survey.beacons: {} positions for {} beacons",
+                                     survey.beacons.size(), tour.timing.beacon_count));
+    }
+    if (const Node start = node["start"]) {
+      r_.check_keys(start, "survey.start", {"sd_m", "heading_sd_deg"});
+      survey.start = SurveyedStart{
+          .sd_m = r_.number(r_.required(start, "sd_m", "survey.start"), "sd_m", 1e-6, 10),
+          .heading_sd_rad = r_.number(r_.required(start, "heading_sd_deg", "survey.start"),
+                                      "heading_sd_deg", 1e-6, 180) *
+                            kDeg};
+    } else if (tour.timing.beacon_count == 0) {
+      r_.fail(node,
+              "survey: missing 'start' (without beacons the filter starts on the start mark)");
+    }
     survey.beacon_height_m = r_.number_or(node, "beacon_height_m", "survey", 0, 0, 100);
     survey.temperature_c = r_.number_or(node, "temperature_c", "survey", 20, -40, 60);
     survey.envelope_tau_s = r_.number_or(node, "envelope_tau_s", "survey", 0.5e-3, 1e-6, 0.1);
@@ -551,8 +574,9 @@ class ScenarioReader {
                                             ? "survey: missing 'station' (the scenario has one)"
                                             : "survey.station: the scenario has no station");
     if (station) {
-      r_.check_keys(station, "survey.station",
-                    {"position", "t0_s", "station_laser_start_deg", "robot_laser_start_deg"});
+      r_.check_keys(
+          station, "survey.station",
+          {"position", "t0_s", "station_laser_start_deg", "robot_laser_start_deg", "max_range_m"});
       SurveyedStation& s = survey.station.emplace();
       s.position =
           point(r_.required(station, "position", "survey.station"), "survey.station.position");
@@ -565,7 +589,35 @@ class ScenarioReader {
           r_.number(r_.required(station, "robot_laser_start_deg", "survey.station"),
                     "robot_laser_start_deg", -360, 360) *
           kDeg;
+      s.max_range_m =
+          r_.number_or(station, "max_range_m", "survey.station", s.max_range_m, 1, 1000);
     }
+  }
+
+  // Liu et al.'s settings (mm^2 and degrees, as the paper prints them).
+  void read_liu_filter(const Node& node, const world::RoomTour& tour, Survey& survey) const {
+    if (!tour.station)
+      r_.fail(node, "liu_filter: Liu's filter needs the 'station'");
+    r_.check_keys(node, "liu_filter",
+                  {"q_mm2", "r_mm2", "p0_mm2", "fix_gate_mm", "heading_gate_deg",
+                   "odometry_heading_var_deg2", "laser_heading_var_deg2"});
+    sw::fuse::LiuFilterOptions& o = survey.liu_filter.emplace();
+    const auto mm2 = [&](const char* key, double& m2) {
+      m2 = r_.number_or(node, key, "liu_filter", m2 * 1e6, 1e-6, 1e9) * 1e-6;
+    };
+    const auto deg2 = [&](const char* key, double& rad2) {
+      rad2 = r_.number_or(node, key, "liu_filter", rad2 / (kDeg * kDeg), 1e-9, 1e4) * kDeg * kDeg;
+    };
+    mm2("q_mm2", o.process_var_m2);
+    mm2("r_mm2", o.fix_var_m2);
+    mm2("p0_mm2", o.initial_var_m2);
+    o.fix_gate_m =
+        r_.number_or(node, "fix_gate_mm", "liu_filter", o.fix_gate_m * 1e3, 1e-3, 1e6) * 1e-3;
+    o.heading_gate_rad =
+        r_.number_or(node, "heading_gate_deg", "liu_filter", o.heading_gate_rad / kDeg, 1e-6, 180) *
+        kDeg;
+    deg2("odometry_heading_var_deg2", o.odometry_heading_var_rad2);
+    deg2("laser_heading_var_deg2", o.laser_heading_var_rad2);
   }
 
   // Everything that stands in the room stands inside it.

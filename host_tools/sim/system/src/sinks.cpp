@@ -88,6 +88,10 @@ void ErrorSink::frame(const Frame& frame, LocalisationSystem& system) {
                   fix_pose(c.fix), false);
   if (frame.soc.estimate.initialised)
     report_.add(Source::kFused, frame.truth, fused_pose(frame.soc));
+  if (frame.soc.liu && frame.soc.liu->initialised) {
+    const sw::fuse::Vector3& x = frame.soc.liu->pose.x;
+    report_.add(Source::kLiuFilter, frame.truth, pose_of(x(0), x(1), x(2)));
+  }
 }
 
 // --------------------------------------------------------------------- CSV

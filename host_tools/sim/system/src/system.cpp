@@ -61,6 +61,13 @@ sw::LocaliserConfig soc_config(const world::RoomTour& tour, const Survey& survey
   c.vehicle = board::nominal_geometry(tour.drive.geometry);
   c.min_select = sw::min_select_setup(c.vehicle);
   c.start_pose = {tour.drive.start.x_m, tour.drive.start.y_m, tour.drive.start.theta_rad};
+  if (survey.start)
+    c.start_covariance =
+        sw::fuse::Vector3(survey.start->sd_m * survey.start->sd_m,
+                          survey.start->sd_m * survey.start->sd_m,
+                          survey.start->heading_sd_rad * survey.start->heading_sd_rad)
+            .asDiagonal();
+  c.liu_filter = survey.liu_filter;
   for (std::size_t i = 0; i < tour.acoustics.receivers.size(); ++i)
     c.capture.channels.at(i).enabled = true;
   const double speed_of_sound_mps =
@@ -88,6 +95,7 @@ sw::LocaliserConfig soc_config(const world::RoomTour& tour, const Survey& survey
     sc.station_laser = {st.station_laser_start_rad, tour.station->station_laser.counts_per_rev};
     sc.robot_laser = {st.robot_laser_start_rad, tour.station->robot_laser.counts_per_rev};
     sc.chain_sd_m = c.chain_sd_m;
+    sc.max_range_m = st.max_range_m;
     c.capture.sync_enable = true;
   }
   return c;

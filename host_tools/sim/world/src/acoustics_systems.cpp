@@ -18,8 +18,8 @@ constexpr double kInset = 0.05;  // beacons stand 5 cm in front of the walls
 }  // namespace
 
 Schedule kleeman_schedule(const KleemanTiming& timing, std::size_t cycles, double start_s) {
-  if (timing.beacon_count == 0 || !(timing.pulse_s > 0) || !(timing.timer_tick_s > 0) ||
-      timing.double_pulse_s < timing.pulse_s ||
+  if (timing.beacon_count + timing.reserved_slots == 0 || !(timing.pulse_s > 0) ||
+      !(timing.timer_tick_s > 0) || timing.double_pulse_s < timing.pulse_s ||
       timing.double_pulse_s + timing.pulse_s > timing.fire_s() || timing.cycle_sync_s < 0)
     throw std::invalid_argument("kleeman_schedule: the pulses do not fit in a slot");
   Schedule s;

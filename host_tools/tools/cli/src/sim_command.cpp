@@ -41,7 +41,7 @@ std::unique_ptr<lcm::Connection> open_lcm(const std::string& url) {
 
 nlohmann::json table_json(const sim::ErrorReport& report) {
   nlohmann::json rows = nlohmann::json::array();
-  for (const sim::Source s : sim::kAllSources) {
+  for (const sim::Source s : report.sources()) {
     const sim::SourceErrors e = report.errors(s);
     rows.push_back({{"source", sim::name(s)},
                     {"samples", e.samples},
@@ -324,6 +324,11 @@ void run_sim(const SimCommand& command, std::ostream& out, bool json,
   const sim::SourceErrors fused = report.errors(sim::Source::kFused);
   if (system.cut_short())
     out << "\nreturn to start: none, the run stopped before the tour's end (--duration)\n";
+  else if (const sim::SourceErrors liu = report.errors(sim::Source::kLiuFilter); liu.samples > 0)
+    out << fmt::format(
+        "\nreturn to start (the robot stops where it started): Liu et al.'s filter {:.1f} mm, "
+        "the fused estimate {:.1f} mm from the start (Liu et al. report about 100 mm)\n",
+        liu.return_to_start_m * 1e3, fused.return_to_start_m * 1e3);
   else
     out << fmt::format(
         "\nreturn to start (the robot stops where it started): fused estimate {:.1f} mm from "

@@ -28,12 +28,17 @@
 //   4. with Liu's base station (base_station.hpp): the sync input's rising
 //      edges of the batch, paired in order with the RF link's packets,
 //      time them: alpha and beta are fused as bearings at their packet's
-//      time; a ranging packet's burst is looked for in the reserved slot of
-//      the cycle that holds it, and its range (Liu eq. 14.8) fused at its
-//      arrival. Before the filter has a pose they are dropped.
+//      time; a ranging packet's burst is listened for t0 after it
+//      (burst_listener.hpp), and its range (Liu eq. 14.8) fused at its
+//      arrival. Before the filter has a pose they are dropped. With
+//      liu_filter, Liu's own filter (liu_filter.hpp) runs beside: the
+//      same odometry, a fix from each alpha and the range that follows it
+//      (eqs. 14.9, 14.10), a heading from each beta (eqs. 14.17-14.19).
 // The robot is expected to stand still for the first fix (a cycle of
 // Kleeman's six beacons lasts 0.9 s: a moving robot's fix is smeared along
-// its path; the filter's motion-compensated ranges are not).
+// its path; the filter's motion-compensated ranges are not). Placed on a
+// surveyed mark (start_covariance), it starts from there instead; without
+// beacons (a lawn with Liu's station alone) it must.
 #pragma once
 
 #include <cstdint>
@@ -45,6 +50,8 @@
 #include "odoloc/sw/beacon_cycle.hpp"
 #include "odoloc/sw/beacon_fix.hpp"
 #include "odoloc/sw/beacon_heading.hpp"
+#include "odoloc/sw/burst_listener.hpp"
+#include "odoloc/sw/liu_filter.hpp"
 #include "odoloc/sw/multilateration.hpp"
 #include "odoloc/sw/odometry_driver.hpp"
 #include "odoloc/sw/pose_ekf.hpp"
@@ -62,9 +69,16 @@ struct LocaliserConfig {
   std::uint16_t update_clocks = 5000;  // 100 us
   OdometryPolicy policy = OdometryPolicy::kPerComponent;
   fuse::Vector3 start_pose = fuse::Vector3::Zero();
+  // Set: the robot stands on a surveyed mark at start_pose, and the filter
+  // starts there at the first step with this covariance (Liu's X(0|0) and
+  // P(0|0)) instead of waiting for a beacon fix. Required without beacons.
+  std::optional<fuse::Matrix3> start_covariance;
 
   // Ultrasonic capture and Kleeman's beacons. kleeman.timebase is replaced
-  // by the capture driver's.
+  // by the capture driver's. kleeman.schedule.beacons = 0 (and an empty
+  // layout): no beacons, the base station alone; the receivers' array,
+  // envelope, speed of sound, timing noise and min_receivers still serve
+  // its bursts.
   tof::CaptureSetup capture;
   double capture_period_s = 0.05;  // between drains of the capture unit's FIFOs
   tof::KleemanConfig kleeman;
@@ -83,9 +97,11 @@ struct LocaliserConfig {
   bool fuse_beacon_ranges = true;
 
   // Liu's base station: needs capture.sync_enable (the RF packets' strobes)
-  // and kleeman.schedule.reserved_slots >= 1 (its bursts), and a
-  // station::Link given to the Localiser.
+  // and, with beacons, kleeman.schedule.reserved_slots >= 1 (its bursts
+  // go there), and a station::Link given to the Localiser.
   std::optional<station::StationConfig> station;
+  // Liu et al.'s own filter beside the EKF (needs the station).
+  std::optional<fuse::LiuFilterOptions> liu_filter;
 
   // Throws std::invalid_argument naming the first bad field.
   void validate() const;
@@ -125,6 +141,7 @@ struct LocaliserStep {
   std::vector<CycleResult> cycles;         // the cycles this step's batch completed
   std::vector<StationUpdate> station;      // the base station's measurements this step made
   fuse::Estimate estimate;                 // at time_s (not initialised before the first fix)
+  std::optional<fuse::LiuEstimate> liu;    // Liu's filter at time_s, when configured
 };
 
 class Localiser {
@@ -144,6 +161,8 @@ class Localiser {
   LocaliserStep step();
 
   [[nodiscard]] const fuse::PoseEkf& filter() const { return ekf_; }
+  // Liu's filter; nullptr unless config.liu_filter.
+  [[nodiscard]] const fuse::LiuFilter* liu_filter() const { return liu_ ? &*liu_ : nullptr; }
   [[nodiscard]] const LocaliserConfig& config() const { return config_; }
   // The capture unit's tick duration and latency.
   [[nodiscard]] const tof::Timebase& timebase() const { return capture_.timebase(); }
@@ -159,23 +178,34 @@ class Localiser {
   [[nodiscard]] fuse::Pose odometry_at(double time_s) const;
   void process(CycleResult& cycle);
   void initialise_from(const CycleResult& cycle);
+  // Liu's filter starts where the EKF first has a pose.
+  void start_liu_filter();
   [[nodiscard]] fuse::RangeSet motion_compensated(const tof::CycleMeasurement& cycle) const;
   // Pairs the batch's sync edges with the link's packets (base_station.hpp).
   void take_packets(const tof::CaptureBatch& batch, LocaliserStep& out);
-  // The ranges of the pending ranging packets whose bursts fall in `cycle`.
-  void take_ranges(const tof::CycleMeasurement& cycle, LocaliserStep& out);
+  // The ranges of the pending ranging packets whose bursts have been read.
+  void take_ranges(LocaliserStep& out);
   void fuse_station(StationUpdate update, LocaliserStep& out);
+  // Liu's fix from the last alpha and the range that followed it.
+  void fuse_liu_fix(double time_s, const fuse::StationRange& range);
 
   LocaliserConfig config_;
   OdometryDriver odometry_;
   tof::CaptureDriver capture_;
-  tof::BeaconCycleDecoder decoder_;
+  std::optional<tof::BeaconCycleDecoder> decoder_;  // with beacons
   fuse::PoseEkf ekf_;
+  std::optional<fuse::LiuFilter> liu_;
   std::deque<OdometrySample> track_;  // the fabric's poses of the last steps
   double last_drain_s_ = -1;          // robot-clock time of the last capture drain
   station::Link* link_;
   station::PacketTimer packets_;
-  std::deque<double> rangings_;  // ranging packets' times, bursts not yet taken
+  std::optional<station::BurstListener> listener_;  // with the station
+  std::deque<double> rangings_;                     // ranging packets' times, bursts not yet taken
+  struct Alpha {
+    double time_s;
+    double bearing_rad;
+  };
+  std::optional<Alpha> last_alpha_;  // not yet paired with a range (Liu's fix)
 };
 
 }  // namespace odoloc::sw

@@ -7,10 +7,11 @@
 // RF; when the robot's own scanning laser hits the station, the station
 // sends an RF packet and the robot latches its laser's count beta. A
 // ranging packet announces an ultrasonic burst t0 after it (Liu eq. 14.8:
-// t_f = t_ul - t_rf - t0). The robot's receiver octagon also serves
-// Kleeman's beacons, so the station bursts only in the beacon cycle's
-// reserved slot (tof::BeaconSchedule::reserved_slots), where the decoder
-// reports what it hears (tof::CycleMeasurement::reserved).
+// t_f = t_ul - t_rf - t0; burst_listener.hpp hears it). Where the robot's
+// receiver octagon also serves Kleeman's beacons, the station bursts only
+// in the beacon cycle's reserved slot (tof::BeaconSchedule::reserved_slots),
+// so the decoder never takes it for a beacon; on a lawn with the station
+// alone, the slot is its own timer's.
 //
 // Every RF packet pulses the capture unit's sync input as it arrives: the
 // packets and the sync FIFO's rising edges pair up in order, so each

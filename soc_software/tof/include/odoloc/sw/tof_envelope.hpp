@@ -57,4 +57,16 @@ struct EnvelopeModel {
   [[nodiscard]] Inverse invert_width(double width_s) const;
 };
 
+// One envelope pulse as an arrival time at its receiver: the rise minus
+// the crossing delay its width gives, and the arrival's standard deviation
+// from the rise's and the width's quantisation (tick_s: each stamp's
+// uniform error spreads the width by tick/sqrt(6)) and timing_sd_s.
+struct CompensatedPulse {
+  double time_s = 0;
+  double sd_s = 0;
+  EnvelopeModel::Inverse compensation;
+};
+[[nodiscard]] CompensatedPulse compensate_pulse(const EnvelopeModel& model, double rise_s,
+                                                double width_s, double tick_s, double timing_sd_s);
+
 }  // namespace odoloc::sw::tof

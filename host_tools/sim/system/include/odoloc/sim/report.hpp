@@ -15,17 +15,25 @@
 #include <cstddef>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "odoloc/sw/pose_ekf.hpp"
 #include "odoloc/world/tricycle.hpp"
 
 namespace odoloc::sim {
 
-enum class Source : std::uint8_t { kRearOdometry, kFrontOdometry, kMinSelect, kUltrasonic, kFused };
-inline constexpr std::size_t kSources = 5;
+enum class Source : std::uint8_t {
+  kRearOdometry,
+  kFrontOdometry,
+  kMinSelect,
+  kUltrasonic,
+  kFused,
+  kLiuFilter,  // Liu et al.'s own filter on the same run (liu_filter.hpp), when configured
+};
+inline constexpr std::size_t kSources = 6;
 inline constexpr std::array<Source, kSources> kAllSources = {
-    Source::kRearOdometry, Source::kFrontOdometry, Source::kMinSelect, Source::kUltrasonic,
-    Source::kFused};
+    Source::kRearOdometry, Source::kFrontOdometry, Source::kMinSelect,
+    Source::kUltrasonic,   Source::kFused,         Source::kLiuFilter};
 std::string_view name(Source source);
 
 struct SourceErrors {
@@ -46,6 +54,10 @@ class ErrorReport {
   void add(Source source, const world::Pose& truth, const world::Pose& estimate,
            bool has_heading = true);
   [[nodiscard]] SourceErrors errors(Source source) const;
+  // The table's rows: every source in kAllSources order, a source without
+  // samples too (no fix, say), except Liu's filter, which runs only where a
+  // scenario asks for it.
+  [[nodiscard]] std::vector<Source> sources() const;
   // The run stopped before the tour's end (--duration): the robot is not
   // back at the start, so no source has a return-to-start error (NaN, "-").
   void cut_short() { returns_to_start_ = false; }

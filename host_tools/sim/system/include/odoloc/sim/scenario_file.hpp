@@ -15,6 +15,7 @@
 #include <string_view>
 #include <vector>
 
+#include "odoloc/sw/liu_filter.hpp"
 #include "odoloc/world/room_tour.hpp"
 #include "odoloc/yaml/reader.hpp"
 
@@ -26,10 +27,19 @@ struct SurveyedStation {
   double t0_s = 0;                     // trigger to sound
   double station_laser_start_rad = 0;  // the lasers' encoder indices
   double robot_laser_start_rad = 0;
+  double max_range_m = 15;  // bursts are listened for this far (Liu: 35 m outdoors)
+};
+
+// The start mark as surveyed: the robot is placed on it (path.start) within
+// these deviations, and the filter starts there (Liu's X(0|0), P(0|0)).
+struct SurveyedStart {
+  double sd_m = 0;  // per axis
+  double heading_sd_rad = 0;
 };
 
 // What the SoC software is told about the world: surveyed positions, the
-// calibrated transmitters and turbulence, a thermometer's temperature.
+// calibrated transmitters and turbulence, a thermometer's temperature, and
+// its own settings where a paper fixes them (Liu's filter).
 struct Survey {
   std::vector<world::Vec2> beacons;  // Kleeman's, in firing order, world frame (m)
   double beacon_height_m = 0;        // above the receivers' plane
@@ -38,6 +48,10 @@ struct Survey {
   double path_jitter_s = 0;          // turbulence as calibrated: per path and per receiver
   double receiver_jitter_s = 0;
   std::optional<SurveyedStation> station;
+  // Set: the filter starts on the start mark (required without beacons).
+  std::optional<SurveyedStart> start;
+  // Set: Liu et al.'s own filter runs beside the EKF (scenario key liu_filter).
+  std::optional<sw::fuse::LiuFilterOptions> liu_filter;
 };
 
 // A stationary experiment (Kleeman's: the robot standing at surveyed
@@ -82,8 +96,9 @@ struct ScenarioOverrides {
 // yaml::InputError ("FILE:LINE: what") for YAML that is not a scenario: an
 // unknown or repeated key, a missing one, a value that is not a finite
 // number or is out of its range, a beacon or the start outside the room,
-// fewer than 3 beacons, a survey whose beacons do not match, an override
-// the path does not have.
+// fewer than 3 beacons, neither beacons nor a station, a survey whose
+// beacons do not match, no survey.start without beacons, liu_filter
+// without a station, an override the path does not have.
 [[nodiscard]] Scenario parse_scenario(const std::string& text, std::string_view file,
                                       const ScenarioOverrides& overrides = {});
 // The file at `path` (InputError also when it cannot be read).

@@ -38,7 +38,9 @@ struct KleemanTiming {
 };
 // `cycles` beacon cycles from start_s: beacon i of cycle k is triggered at
 // start_s + (k (N + R) + i) t_fire, R = reserved_slots (whose slots stay
-// silent). Throws std::invalid_argument when the pulses do not fit in a slot.
+// silent). N = 0 with R > 0 is a base station's timer alone (no
+// emissions). Throws std::invalid_argument when the pulses do not fit in a
+// slot or the cycle has no slot.
 Schedule kleeman_schedule(const KleemanTiming& timing, std::size_t cycles, double start_s = 0);
 
 // An RF-triggered transmitter: an RF sync pulse at each trigger, the
