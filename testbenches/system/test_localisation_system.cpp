@@ -70,7 +70,7 @@ double nees(const sim::Frame& f) {
 
 TEST(LocalisationSystem, FusedEstimateBeatsEverySourceOnTheRoomTour) {
   sim::LocalisationSystem system(sim::default_scenario(), {});
-  sim::ErrorSink errors(system.tour().drive.start);
+  sim::ErrorSink errors(system);
   double nees_sum = 0;
   std::size_t nees_n = 0, nees_wild = 0;
   double max_fused_error = 0;
@@ -183,7 +183,7 @@ TEST(LocalisationSystem, FusedEstimateBeatsEverySourceOnTheRoomTour) {
 // 5 cm of the truth at the end.
 TEST(LocalisationSystem, BaseStationAloneKeepsTheRobotLocalised) {
   sim::LocalisationSystem system(sim::default_scenario(), {.fuse_beacon_ranges = false});
-  sim::ErrorSink errors(system.tour().drive.start);
+  sim::ErrorSink errors(system);
   while (!system.done())
     errors.frame(system.step(), system);
   const sim::ErrorReport& report = errors.report();

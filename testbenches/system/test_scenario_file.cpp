@@ -202,6 +202,64 @@ TEST(ScenarioFile, EveryMistakeNamesTheFileAndTheLine) {
             std::string::npos);
 }
 
+std::string lawn_text() {
+  return std::string(odoloc::sim::find_builtin_scenario("liu-lawn.yaml")->text);
+}
+
+// Liu's lawn: no beacons (the station's timer alone: one slot), no walls,
+// the start mark and the paper's filter settings in SI units.
+TEST(ScenarioFile, LiusLawnHasTheStationAloneAndThePapersFilter) {
+  const Scenario s = parse_scenario(lawn_text(), "liu-lawn.yaml");
+  EXPECT_EQ(s.tour.timing.beacon_count, 0U);
+  EXPECT_EQ(s.tour.timing.reserved_slots, 1U);
+  ASSERT_EQ(s.tour.acoustics.beacons.size(), 1U);  // the station's transmitter
+  EXPECT_FALSE(s.tour.acoustics.room.has_value());
+  ASSERT_TRUE(s.tour.station.has_value());
+  EXPECT_EQ(s.tour.station->transmitter, 0U);
+  EXPECT_TRUE(s.survey.beacons.empty());
+  ASSERT_TRUE(s.survey.start.has_value());
+  EXPECT_DOUBLE_EQ(s.survey.start->sd_m, 0.0316);
+  ASSERT_TRUE(s.survey.station.has_value());
+  EXPECT_DOUBLE_EQ(s.survey.station->max_range_m, 35);
+  ASSERT_TRUE(s.survey.liu_filter.has_value());
+  const odoloc::sw::fuse::LiuFilterOptions paper;
+  EXPECT_NEAR(s.survey.liu_filter->process_var_m2, paper.process_var_m2, 1e-18);
+  EXPECT_NEAR(s.survey.liu_filter->fix_var_m2, 1e-3, 1e-18);
+  EXPECT_NEAR(s.survey.liu_filter->fix_gate_m, 0.15, 1e-15);
+  EXPECT_NEAR(s.survey.liu_filter->heading_gate_rad, paper.heading_gate_rad, 1e-15);
+  EXPECT_NEAR(s.survey.liu_filter->laser_heading_var_rad2, paper.laser_heading_var_rad2, 1e-18);
+  EXPECT_EQ(s.tour.drive.start.y_m, 1.2);  // Liu's X(0|0) = (0, 1200) mm
+}
+
+TEST(ScenarioFile, LawnMistakesNameTheFileAndTheLine) {
+  const Mistake mistakes[] = {
+      {"  start: {sd_m: 0.0316, heading_sd_deg: 1}\n", "",
+       "survey: missing 'start' (without beacons", "  temperature_c: 20\n  envelope"},
+      {"  fix_gate_mm: 150\n", "  fix_gate_mm: 0\n", "fix_gate_mm", "fix_gate_mm: 0"},
+      {"liu_filter:\n", "liu_filters:\n", "unknown key 'liu_filters'", "liu_filters:"},
+      {"    max_range_m: 35\n", "    max_range_m: nan\n", "must be a finite number",
+       "max_range_m: nan"},
+  };
+  const std::string base = lawn_text();
+  for (const Mistake& m : mistakes) {
+    const std::string text = edited(base, m.from, m.to);
+    const std::string error = error_of(text);
+    EXPECT_NE(error.find(m.message), std::string::npos) << m.message << "\ngot: " << error;
+    const std::string place = "my.yaml:" + std::to_string(line_of(text, m.at)) + ":";
+    EXPECT_TRUE(error.starts_with(place)) << place << "\ngot: " << error;
+  }
+  // Without its station the lawn has nothing to localise with; Kleeman's
+  // stationary room has no station for Liu's filter; the room tour has one.
+  const std::string no_station =
+      base.substr(0, base.find("station:\n  position")) + base.substr(base.find("robot:\n"));
+  EXPECT_NE(error_of(no_station).find("no 'beacons' and no 'station'"), std::string::npos)
+      << error_of(no_station);
+  const std::string kleeman(odoloc::sim::find_builtin_scenario("kleeman-stationary.yaml")->text);
+  EXPECT_NE(error_of(kleeman + "liu_filter: {}\n").find("Liu's filter needs the 'station'"),
+            std::string::npos);
+  EXPECT_EQ(error_of(room_tour_text() + "liu_filter: {}\n"), "");
+}
+
 // Random byte edits of the room tour: each parses or is an InputError,
 // nothing else (no crash, no other exception, no hang).
 TEST(ScenarioFile, EditedFilesParseOrFailCleanly) {

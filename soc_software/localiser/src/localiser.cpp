@@ -264,7 +264,8 @@ void Localiser::take_packets(const tof::CaptureBatch& batch, LocaliserStep& out)
     switch (r.kind) {
       case station::ReportKind::kStationSawRobot: {
         const fuse::StationBearing alpha = station::station_bearing(st, r.count);
-        last_alpha_ = Alpha{p->time_s, alpha.bearing_rad};
+        if (liu_)
+          alphas_.push_back({p->time_s, alpha.bearing_rad});
         fuse_station({p->time_s, alpha}, out);
         break;
       }
@@ -288,7 +289,8 @@ void Localiser::take_ranges(LocaliserStep& out) {
   // Quantisation of the two timestamps (the packet's edge, the arrival's).
   const double tick_sd_m = c * std::sqrt(2.0) * capture_.timebase().quantisation_sd_s();
   while (!rangings_.empty()) {
-    const double sent_s = rangings_.front() + st.t0_s;  // the burst leaves the station
+    const double ranging_s = rangings_.front();
+    const double sent_s = ranging_s + st.t0_s;  // the burst leaves the station
     const station::BurstResult heard = listener_->listen(sent_s);
     if (heard.status == station::BurstStatus::kPending)
       break;
@@ -303,7 +305,7 @@ void Localiser::take_ranges(LocaliserStep& out) {
     const double timing_sd_m = c * heard.burst.sd_s;
     range.sd_m = std::sqrt(timing_sd_m * timing_sd_m + st.chain_sd_m * st.chain_sd_m +
                            tick_sd_m * tick_sd_m);
-    fuse_liu_fix(arrival_s, range);
+    fuse_liu_fix(ranging_s, arrival_s, range);
     fuse_station({arrival_s, range}, out);
   }
   // Kept: the bursts of the rangings still waiting, and the next ones'.
@@ -311,19 +313,21 @@ void Localiser::take_ranges(LocaliserStep& out) {
   listener_->drop_before(std::min(oldest_s, out.time_s - config_.capture_period_s) - 1.0);
 }
 
-void Localiser::fuse_liu_fix(double time_s, const fuse::StationRange& range) {
-  // The station bursts after each hit of its laser: a range belongs to the
-  // last alpha if it comes within a cycle and the longest flight of it.
-  const double pairing_s = config_.kleeman.schedule.cycle_s() +
-                           config_.station->max_range_m / config_.kleeman.speed_of_sound_mps;
-  if (!liu_ || !last_alpha_ || time_s - last_alpha_->time_s > pairing_s)
+void Localiser::fuse_liu_fix(double ranging_s, double arrival_s, const fuse::StationRange& range) {
+  // The station asks for a burst after each hit of its laser: a ranging
+  // belongs to the last alpha before it, if that came soon enough.
+  const auto after = std::ranges::upper_bound(alphas_, ranging_s, {}, &Alpha::time_s);
+  if (!liu_ || after == alphas_.begin())
+    return;
+  const Alpha alpha = *std::prev(after);
+  alphas_.erase(alphas_.begin(), after);
+  if (ranging_s - alpha.time_s > config_.station->ranging_after_alpha_s)
     return;
   const double planar_m = std::sqrt(
       std::max(0.0, range.distance_m * range.distance_m - range.height_m * range.height_m));
   const fuse::Vector2 fix =
-      fuse::LiuFilter::absolute_position(range.station_m, last_alpha_->bearing_rad, planar_m);
-  last_alpha_.reset();
-  liu_->fuse_fix(fix, fuse::increment_between(odometry_at(time_s), track_.back().pose));
+      fuse::LiuFilter::absolute_position(range.station_m, alpha.bearing_rad, planar_m);
+  liu_->fuse_fix(fix, fuse::increment_between(odometry_at(arrival_s), track_.back().pose));
 }
 
 void Localiser::fuse_station(StationUpdate update, LocaliserStep& out) {

@@ -51,6 +51,8 @@ void StationConfig::validate() const {
                     "a laser encoder needs a finite sweep_start_rad and >= 4 counts_per_rev");
   detail::require(detail::finite_positive(max_range_m), kOwner,
                   "max_range_m must be finite and positive");
+  detail::require(detail::finite_positive(ranging_after_alpha_s), kOwner,
+                  "ranging_after_alpha_s must be finite and positive");
   detail::require(detail::finite_non_negative(chain_sd_m), kOwner,
                   "chain_sd_m must be finite and >= 0");
   detail::require(detail::finite_non_negative(bearing_sd_rad), kOwner,

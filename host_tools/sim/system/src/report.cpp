@@ -68,14 +68,6 @@ SourceErrors ErrorReport::errors(Source source) const {
   return e;
 }
 
-std::vector<Source> ErrorReport::sources() const {
-  std::vector<Source> out;
-  for (const Source source : kAllSources)
-    if (source != Source::kLiuFilter || sums_[static_cast<std::size_t>(source)].n > 0)
-      out.push_back(source);
-  return out;
-}
-
 std::string ErrorReport::table() const {
   std::string out =
       fmt::format("{:<24} {:>8} {:>11} {:>11} {:>10} {:>10} {:>13}\n", "source", "samples",

@@ -70,6 +70,15 @@ world::Pose odometry_pose(const sw::LocaliserStep& step) {
 
 // ------------------------------------------------------------------ errors
 
+std::vector<Source> table_rows(const LocalisationSystem& system) {
+  std::vector<Source> rows;
+  for (const Source s : kAllSources)
+    if ((s != Source::kUltrasonic || system.tour().timing.beacon_count > 0) &&
+        (s != Source::kLiuFilter || system.localiser().liu_filter() != nullptr))
+      rows.push_back(s);
+  return rows;
+}
+
 void ErrorSink::finish(LocalisationSystem& system) {
   if (system.cut_short())
     report_.cut_short();

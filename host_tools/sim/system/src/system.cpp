@@ -96,6 +96,9 @@ sw::LocaliserConfig soc_config(const world::RoomTour& tour, const Survey& survey
     sc.robot_laser = {st.robot_laser_start_rad, tour.station->robot_laser.counts_per_rev};
     sc.chain_sd_m = c.chain_sd_m;
     sc.max_range_m = st.max_range_m;
+    // The station's protocol: its next slot after its turnaround.
+    sc.ranging_after_alpha_s =
+        tour.timing.cycle_s() + tour.station->request_margin_s + tour.station->rf_spacing_s;
     c.capture.sync_enable = true;
   }
   return c;

@@ -9,6 +9,7 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <optional>
 #include <ostream>
 #include <string_view>
@@ -240,7 +241,7 @@ void run_sim(const SimCommand& command, std::ostream& out, bool json,
                        live ? fmt::format("; publishing on {}", live_url) : std::string())
         << std::flush;
   sim::Runner runner(system, {.realtime = command.realtime, .allow_write = command.allow_write});
-  sim::ErrorSink errors(tour.drive.start);
+  sim::ErrorSink errors(system);
   runner.add_sink(errors);
   std::optional<sim::CsvSink> csv;
   if (!command.out.empty()) {
@@ -305,6 +306,11 @@ void run_sim(const SimCommand& command, std::ostream& out, bool json,
                         {"malformed_messages", summary.malformed},
                         {"table", table_json(report)},
                         {"filter_updates", updates_json(system.localiser().filter())}};
+    if (const sw::fuse::LiuFilter* liu = system.localiser().liu_filter())
+      j["liu_filter"] = {{"fixes", liu->stats().fixes},
+                         {"fixes_gated", liu->stats().fixes_gated},
+                         {"headings", liu->stats().headings},
+                         {"headings_gated", liu->stats().headings_gated}};
     if (!command.out.empty())
       j["files"] = {{"log", (dir / "odoloc.lcmlog").string()},
                     {"trajectories", (dir / "trajectories.csv").string()},
@@ -343,6 +349,13 @@ void run_sim(const SimCommand& command, std::ostream& out, bool json,
       report.errors(sim::Source::kRearOdometry).rms_position_m * 1e3,
       report.errors(sim::Source::kFrontOdometry).rms_position_m * 1e3);
   out << '\n' << sim::update_summary(system.localiser().filter());
+  if (const sw::fuse::LiuFilter* liu = system.localiser().liu_filter())
+    out << fmt::format(
+        "Liu et al.'s filter: {} fixes fused, {} gated (beyond {:.0f} mm); {} headings fused, {} "
+        "gated (beyond {:.1f} deg)\n",
+        liu->stats().fixes, liu->stats().fixes_gated, liu->options().fix_gate_m * 1e3,
+        liu->stats().headings, liu->stats().headings_gated,
+        liu->options().heading_gate_rad * 180 / std::numbers::pi);
   if (live)
     out << fmt::format("register bridge: {} served, {} refused, {} errors; {} malformed messages\n",
                        summary.bridge.served, summary.bridge.refused, summary.bridge.errors,

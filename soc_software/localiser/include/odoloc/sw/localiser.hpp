@@ -186,8 +186,9 @@ class Localiser {
   // The ranges of the pending ranging packets whose bursts have been read.
   void take_ranges(LocaliserStep& out);
   void fuse_station(StationUpdate update, LocaliserStep& out);
-  // Liu's fix from the last alpha and the range that followed it.
-  void fuse_liu_fix(double time_s, const fuse::StationRange& range);
+  // Liu's fix from the range of the ranging packet at ranging_s, which
+  // arrived at arrival_s, and the alpha that asked for it.
+  void fuse_liu_fix(double ranging_s, double arrival_s, const fuse::StationRange& range);
 
   LocaliserConfig config_;
   OdometryDriver odometry_;
@@ -205,7 +206,7 @@ class Localiser {
     double time_s;
     double bearing_rad;
   };
-  std::optional<Alpha> last_alpha_;  // not yet paired with a range (Liu's fix)
+  std::deque<Alpha> alphas_;  // with Liu's filter: not yet paired with a range
 };
 
 }  // namespace odoloc::sw

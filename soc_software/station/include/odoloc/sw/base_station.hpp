@@ -103,6 +103,10 @@ struct StationConfig {
   LaserEncoder robot_laser;
   // Ranges longer than this are not looked for (Liu: 35 m outdoors).
   double max_range_m = 15;
+  // The station asks for a burst after each hit of its laser: the ranging
+  // packet comes at most this long after the alpha packet (its timer's next
+  // slot after its turnaround; the device's data). Liu's fix pairs them.
+  double ranging_after_alpha_s = 0.2;
   // Range error besides the arrival's timing noise and the timestamps'
   // quantisation (the capture chain's, as LocaliserConfig::chain_sd_m).
   double chain_sd_m = 0.002;

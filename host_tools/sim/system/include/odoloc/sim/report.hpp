@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "odoloc/sw/pose_ekf.hpp"
@@ -48,16 +49,18 @@ struct SourceErrors {
 
 class ErrorReport {
  public:
-  explicit ErrorReport(const world::Pose& start) : start_(start) {}
+  // `rows`: the table's sources, in kAllSources order (a source the run
+  // cannot have, as the ultrasonic fixes of a lawn without beacons, is left
+  // out; one it has may still have no samples: no fix at all).
+  explicit ErrorReport(const world::Pose& start,
+                       std::vector<Source> rows = {kAllSources.begin(), kAllSources.end()})
+      : start_(start), rows_(std::move(rows)) {}
   // One sample of a source at a time its truth is known. A source without
   // heading (the ultrasonic fixes) passes has_heading = false.
   void add(Source source, const world::Pose& truth, const world::Pose& estimate,
            bool has_heading = true);
   [[nodiscard]] SourceErrors errors(Source source) const;
-  // The table's rows: every source in kAllSources order, a source without
-  // samples too (no fix, say), except Liu's filter, which runs only where a
-  // scenario asks for it.
-  [[nodiscard]] std::vector<Source> sources() const;
+  [[nodiscard]] const std::vector<Source>& sources() const { return rows_; }
   // The run stopped before the tour's end (--duration): the robot is not
   // back at the start, so no source has a return-to-start error (NaN, "-").
   void cut_short() { returns_to_start_ = false; }
@@ -73,6 +76,7 @@ class ErrorReport {
     bool has_heading = true;
   };
   world::Pose start_;
+  std::vector<Source> rows_;
   bool returns_to_start_ = true;
   std::array<Sums, kSources> sums_{};
 };

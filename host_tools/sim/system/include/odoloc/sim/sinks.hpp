@@ -34,10 +34,16 @@ std::optional<board::PosePoint> reference_at(const board::RunResult& run, double
 world::Pose fused_pose(const sw::LocaliserStep& step);
 world::Pose odometry_pose(const sw::LocaliserStep& step);
 
-// Every source's error against the truth (report.hpp).
+// The sources `system` has: the ultrasonic fixes with beacons, Liu's
+// filter where the scenario runs it, the others always.
+std::vector<Source> table_rows(const LocalisationSystem& system);
+
+// Every source's error against the truth (report.hpp), from the tour's
+// start, with the system's rows.
 class ErrorSink final : public FrameSink {
  public:
-  explicit ErrorSink(const world::Pose& start) : report_(start) {}
+  explicit ErrorSink(const LocalisationSystem& system)
+      : report_(system.tour().drive.start, table_rows(system)) {}
   void frame(const Frame& frame, LocalisationSystem& system) override;
   // A run cut short (LocalisationSystem::cut_short) has no return to start.
   void finish(LocalisationSystem& system) override;
