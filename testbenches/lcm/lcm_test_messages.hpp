@@ -131,10 +131,10 @@ inline odoloc_lcm::beacon_fix_t beacon_fix(int k) {
 }
 
 inline odoloc_lcm::pose_estimate_t pose_estimate(int k) {
-  static constexpr const char* kSources[] = {"fused", "odometry", "rear", "front"};
+  static constexpr const char* kSources[] = {"fused", "odometry", "rear", "front", "liu"};
   odoloc_lcm::pose_estimate_t m{};
   m.utime = tick_utime(k);
-  m.source = kSources[k % 4];
+  m.source = kSources[k % 5];
   m.x = -0.5 + 0.01 * k;
   m.y = 7.0 / 3.0 + 0.005 * k;
   m.theta = std::numbers::pi - 1.0e-9 - 1e-3 * k;

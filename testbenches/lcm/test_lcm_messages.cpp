@@ -208,7 +208,7 @@ TEST(LcmMessages, ChannelNamesAreDistinctLcmNames) {
     ++channels;
   });
   EXPECT_EQ(names.size(), channels);
-  EXPECT_EQ(channels, 13U);  // channels.hpp's ten streams, the pose in four
+  EXPECT_EQ(channels, 14U);  // channels.hpp's ten streams, the pose in five
   for (const auto& stream : odoloc::lcm::channel::kPoseStreams) {
     EXPECT_STREQ(odoloc::lcm::channel::pose_channel(stream.source), stream.channel);
     EXPECT_EQ(std::string(stream.channel).rfind(odoloc::lcm::channel::kPosePrefix, 0), 0U);
@@ -266,7 +266,7 @@ TEST(LcmMessages, SamplesCoverEveryVariant) {
   EXPECT_EQ(statuses, (std::set<int>{odoloc_lcm::register_response_t::OK,
                                      odoloc_lcm::register_response_t::REFUSED,
                                      odoloc_lcm::register_response_t::ERROR}));
-  EXPECT_EQ(sources, (std::set<std::string>{"fused", "odometry", "rear", "front"}));
+  EXPECT_EQ(sources, (std::set<std::string>{"fused", "odometry", "rear", "front", "liu"}));
   EXPECT_TRUE(empty_events);
 }
 

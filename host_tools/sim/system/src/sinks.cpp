@@ -312,6 +312,15 @@ void LcmSink::frame(const Frame& frame, LocalisationSystem& system) {
         e.last_absolute_s < 0 ? 0 : utime(system.to_sim_time(e.last_absolute_s));
     publish(channel::kPoseFused, fused);
   }
+  if (frame.soc.liu && frame.soc.liu->initialised) {
+    const sw::fuse::LiuEstimate& l = *frame.soc.liu;
+    odoloc_lcm::pose_estimate_t liu =
+        pose_message(frame.time_s, "liu", pose_of(l.pose.x(0), l.pose.x(1), l.pose.x(2)));
+    // Liu's filter carries no heading variance: the position's only.
+    for (int k = 0; k < 4; ++k)
+      liu.covariance[(k / 2) * 3 + k % 2] = l.covariance_m2(k / 2, k % 2);
+    publish(channel::kPoseLiu, liu);
+  }
 }
 
 void LcmSink::publish_events(const Frame& frame, LocalisationSystem& system) {

@@ -528,7 +528,7 @@ Registered add_watch_pose(CLI::App& app) {
       "source, x, y, heading, standard deviations",
       [](CLI::App& c, WatchPoseOptions& o) {
         c.add_option("--source", o.command.source,
-                     "fused (default), odometry, rear, front, truth or all")
+                     "fused (default), odometry, rear, front, liu, truth or all")
             ->type_name("SOURCE");
         c.add_option("--count", o.count, "estimates to print (default: until Ctrl-C)")
             ->type_name("N");

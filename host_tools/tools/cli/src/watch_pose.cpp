@@ -21,8 +21,8 @@ namespace {
 
 using Pose = odoloc_lcm::pose_estimate_t;
 
-constexpr std::array<std::string_view, 6> kSources = {"fused", "odometry", "rear",
-                                                      "front", "truth",    "all"};
+constexpr std::array<std::string_view, 7> kSources = {"fused", "odometry", "rear", "front",
+                                                      "liu",   "truth",    "all"};
 // How often an idle watch looks at the stop flag.
 constexpr std::chrono::milliseconds kSlice{10};
 
@@ -85,7 +85,7 @@ std::string parse_pose_source(std::string_view text) {
     if (text == source)
       return std::string{text};
   throw UsageError(
-      fmt::format("unknown pose source '{}'; expected fused, odometry, rear, front, "
+      fmt::format("unknown pose source '{}'; expected fused, odometry, rear, front, liu, "
                   "truth or all",
                   text));
 }

@@ -23,6 +23,7 @@ inline constexpr char kPoseFused[] = "ODOLOC_POSE_FUSED";        // the EKF
 inline constexpr char kPoseOdometry[] = "ODOLOC_POSE_ODOMETRY";  // the fabric (min-select)
 inline constexpr char kPoseRear[] = "ODOLOC_POSE_REAR";          // rear-only (simulator)
 inline constexpr char kPoseFront[] = "ODOLOC_POSE_FRONT";        // front-only (simulator)
+inline constexpr char kPoseLiu[] = "ODOLOC_POSE_LIU";  // Liu et al.'s filter, where it runs
 inline constexpr std::string_view kPosePrefix = "ODOLOC_POSE_";
 // LCM subscriptions take a regular expression: every pose channel.
 inline constexpr char kPoseAny[] = "ODOLOC_POSE_.*";
@@ -36,10 +37,11 @@ struct PoseStream {
   const char* channel;
   std::string_view source;
 };
-inline constexpr std::array<PoseStream, 4> kPoseStreams{{{kPoseFused, "fused"},
+inline constexpr std::array<PoseStream, 5> kPoseStreams{{{kPoseFused, "fused"},
                                                          {kPoseOdometry, "odometry"},
                                                          {kPoseRear, "rear"},
-                                                         {kPoseFront, "front"}}};
+                                                         {kPoseFront, "front"},
+                                                         {kPoseLiu, "liu"}}};
 
 // The channel of a pose source ("fused" -> ODOLOC_POSE_FUSED), nullptr for
 // a name that is none of them.
