@@ -9,16 +9,20 @@
 //     slot later, so a moving robot's fix is also off along its path by up
 //     to v (t_slot + margin + rho_max / c);
 //   - Liu's filter with the paper's settings fuses a fix with the gain K of
-//     its Riccati fixed point; standing at the start for the last wait, its
-//     error is at most (1 - K) times a moving fix's bound plus K times a
-//     standing fix's.
+//     its Riccati fixed point; standing at the start after each lap (the
+//     paper's returns), its error is at most (1 - K) times a moving fix's
+//     bound plus K times a standing fix's.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
+#include <utility>
 #include <variant>
+#include <vector>
 
+#include "odoloc/sim/sinks.hpp"
 #include "odoloc/sim/system.hpp"
 
 namespace {
@@ -31,6 +35,7 @@ TEST(LiuLawn, BothFiltersWithinTheStationsGeometryAndNoise) {
   odoloc::sim::Scenario scenario = odoloc::sim::parse_scenario(std::string(file->text), file->key);
   const odoloc::world::RoomTour tour = scenario.tour;
   odoloc::sim::LocalisationSystem system(std::move(scenario), {.encoder_period_s = 1.0});
+  odoloc::sim::ErrorSink returns(system);
   const odoloc::sw::station::StationConfig station = *system.localiser().config().station;
   const odoloc::sw::fuse::LiuFilterOptions liu = *system.localiser().config().liu_filter;
 
@@ -42,6 +47,7 @@ TEST(LiuLawn, BothFiltersWithinTheStationsGeometryAndNoise) {
   odoloc::sim::Frame last;
   while (!system.done()) {
     last = system.step();
+    returns.frame(last, system);
     const odoloc::world::Pose& t = last.truth;
     rho_max = std::max(rho_max,
                        std::hypot(t.x_m - station.position_m.x(), t.y_m - station.position_m.y()));
@@ -61,6 +67,7 @@ TEST(LiuLawn, BothFiltersWithinTheStationsGeometryAndNoise) {
     odometry2 += error2(last.soc.odometry.x_m, last.soc.odometry.y_m);
     ++n;
   }
+  returns.finish(system);
   const double duration_s = last.time_s;
   const double ekf_rms = std::sqrt(ekf2 / static_cast<double>(n));
   const double liu_rms = std::sqrt(liu2 / static_cast<double>(n));
@@ -105,6 +112,19 @@ TEST(LiuLawn, BothFiltersWithinTheStationsGeometryAndNoise) {
   // odometry it corrects.
   EXPECT_LT(liu_rms, moving_fix_m);
   EXPECT_LT(liu_return, (1 - gain) * moving_fix_m + gain * standing_m);
+  // The same at every stop back at the start, one a lap (Liu's statistic:
+  // the estimate against where the robot stopped).
+  const auto laps = static_cast<std::size_t>(
+      std::round(std::abs(last.truth.theta_rad - start.theta_rad) / (2 * std::numbers::pi)));
+  const odoloc::sim::ErrorReport& report = returns.report();
+  for (const auto& [source, bound] :
+       {std::pair{odoloc::sim::Source::kLiuFilter, (1 - gain) * moving_fix_m + gain * standing_m},
+        std::pair{odoloc::sim::Source::kFused, standing_m}}) {
+    const std::vector<double> at_stops = report.errors(source).returns_m;
+    EXPECT_EQ(at_stops.size(), laps) << odoloc::sim::name(source);
+    for (const double at_stop : at_stops)
+      EXPECT_LT(at_stop, bound) << odoloc::sim::name(source);
+  }
   EXPECT_LT(liu_rms, 0.5 * odometry_rms);
   EXPECT_LT(ekf_rms, liu_rms);
   const odoloc::sw::fuse::LiuFilter* filter = system.localiser().liu_filter();

@@ -3,6 +3,7 @@
 // and the line.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -229,6 +230,12 @@ TEST(ScenarioFile, LiusLawnHasTheStationAloneAndThePapersFilter) {
   EXPECT_NEAR(s.survey.liu_filter->heading_gate_rad, paper.heading_gate_rad, 1e-15);
   EXPECT_NEAR(s.survey.liu_filter->laser_heading_var_rad2, paper.laser_heading_var_rad2, 1e-18);
   EXPECT_EQ(s.tour.drive.start.y_m, 1.2);  // Liu's X(0|0) = (0, 1200) mm
+  // Two laps with a stop at the start between them: three 3 s waits.
+  const auto waits = std::ranges::count_if(s.tour.drive.path.segments, [](const auto& seg) {
+    return seg.speed_mps == 0 && seg.end == odoloc::world::Segment::End::kDuration &&
+           seg.amount == 3.0;
+  });
+  EXPECT_EQ(waits, 3);
 }
 
 TEST(ScenarioFile, LawnMistakesNameTheFileAndTheLine) {

@@ -51,11 +51,18 @@ void ErrorReport::add(Source source, const world::Pose& truth, const world::Pose
   s.has_heading = has_heading;
 }
 
+void ErrorReport::mark_return() {
+  for (Sums& s : sums_)
+    if (s.n > 0)
+      s.returns.push_back(distance(s.last, s.last_truth));
+}
+
 SourceErrors ErrorReport::errors(Source source) const {
   const Sums& s = sums_[static_cast<std::size_t>(source)];
   SourceErrors e;
   e.samples = s.n;
   e.has_heading = s.has_heading;
+  e.returns_m = s.returns;
   if (s.n == 0)
     return e;
   const auto n = static_cast<double>(s.n);

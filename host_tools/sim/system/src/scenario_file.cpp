@@ -352,8 +352,9 @@ class ScenarioReader {
     double metres = 0;
   };
   Laps read_path(const Node& node, world::RoomTour& tour) const {
-    r_.check_keys(node, "path",
-                  {"start", "wait_s", "laps", "square", "segments", "steer_rate_degps"});
+    r_.check_keys(
+        node, "path",
+        {"start", "wait_s", "laps", "lap_wait_s", "square", "segments", "steer_rate_degps"});
     world::Scenario& drive = tour.drive;
     const Node start = r_.required(node, "start", "path");
     r_.check_keys(start, "path.start", {"x_m", "y_m", "heading_deg"});
@@ -361,6 +362,7 @@ class ScenarioReader {
                    r_.number(r_.required(start, "y_m", "path.start"), "path.start.y_m"),
                    r_.number_or(start, "heading_deg", "path.start", 0, -360, 360) * kDeg};
     const double wait_s = r_.number_or(node, "wait_s", "path", 0, 0, 3600);
+    const double lap_wait_s = r_.number_or(node, "lap_wait_s", "path", 0, 0, 3600);
     std::size_t laps = node["laps"] ? r_.whole(node["laps"], "path.laps", 1, 100) : 0;
     if (overrides_.laps) {
       if (laps == 0)
@@ -394,9 +396,12 @@ class ScenarioReader {
       lap.steer_rate_radps = r_.number(rate, "path.steer_rate_degps", 1, 3600) * kDeg;
     drive.path.steer_rate_radps = lap.steer_rate_radps;
     drive.path.segments.push_back(world::Segment::duration(0, 0, wait_s));
-    for (std::size_t l = 0; l < std::max<std::size_t>(laps, 1); ++l)
+    for (std::size_t l = 0; l < std::max<std::size_t>(laps, 1); ++l) {
+      if (l > 0 && lap_wait_s > 0)  // standing at the start between laps
+        drive.path.segments.push_back(world::Segment::duration(0, 0, lap_wait_s));
       drive.path.segments.insert(drive.path.segments.end(), lap.segments.begin(),
                                  lap.segments.end());
+    }
     drive.path.segments.push_back(world::Segment::duration(0, 0, wait_s));
     tour.duration_s = path_seconds(drive.path);
     // The tricycle's own checks (a steering angle beyond the limit, ...).

@@ -79,12 +79,28 @@ std::vector<Source> table_rows(const LocalisationSystem& system) {
   return rows;
 }
 
+bool ErrorSink::standing_at_start(const world::Pose& truth) const {
+  // Within 1 cm of the mark, not moved by 0.1 mm since the last frame.
+  return std::hypot(truth.x_m - start_.x_m, truth.y_m - start_.y_m) < 0.01 &&
+         std::hypot(truth.x_m - last_truth_.x_m, truth.y_m - last_truth_.y_m) < 1e-4;
+}
+
 void ErrorSink::finish(LocalisationSystem& system) {
   if (system.cut_short())
     report_.cut_short();
+  else if (standing_ && away_)
+    report_.mark_return();
 }
 
 void ErrorSink::frame(const Frame& frame, LocalisationSystem& system) {
+  const bool standing = standing_at_start(frame.truth);
+  if (standing_ && !standing && away_) {  // the previous frame ended a stop
+    report_.mark_return();
+    away_ = false;
+  }
+  standing_ = standing;
+  away_ = away_ || std::hypot(frame.truth.x_m - start_.x_m, frame.truth.y_m - start_.y_m) > 1.0;
+  last_truth_ = frame.truth;
   report_.add(Source::kMinSelect, frame.truth, odometry_pose(frame.soc));
   for (const auto& [source, policy] :
        {std::pair{Source::kRearOdometry, rtl::MinSelectPolicy::kRearOnly},

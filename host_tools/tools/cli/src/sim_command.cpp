@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -52,9 +53,35 @@ nlohmann::json table_json(const sim::ErrorReport& report) {
                     {"rms_position_m", e.rms_position_m},
                     {"rms_heading_rad",
                      e.has_heading ? nlohmann::json(e.rms_heading_rad) : nlohmann::json(nullptr)},
-                    {"return_to_start_m", e.return_to_start_m}});
+                    {"return_to_start_m", e.return_to_start_m},
+                    {"returns_m", e.returns_m}});
   }
   return rows;
+}
+
+// With two or more stops back at the start (path.lap_wait_s): each filter's
+// error at every stop, RMS and worst, Liu et al.'s way ("" otherwise).
+std::string returns_line(const sim::ErrorReport& report) {
+  std::vector<std::string> parts;
+  std::size_t count = 0;
+  for (const sim::Source s : {sim::Source::kLiuFilter, sim::Source::kFused}) {
+    const sim::SourceErrors e = report.errors(s);
+    if (e.returns_m.size() < 2)
+      continue;
+    double sum2 = 0;
+    for (const double r : e.returns_m)
+      sum2 += r * r;
+    count = e.returns_m.size();
+    parts.push_back(fmt::format("{} RMS {:.1f} mm, worst {:.1f} mm", sim::name(s),
+                                std::sqrt(sum2 / static_cast<double>(count)) * 1e3,
+                                *std::ranges::max_element(e.returns_m) * 1e3));
+  }
+  if (parts.empty())
+    return "";
+  return fmt::format(
+      "returns to the start ({} stops; the estimate against where the robot stopped): {} "
+      "(Liu et al.: 20 returns within about 100 mm)\n",
+      count, fmt::join(parts, "; "));
 }
 
 nlohmann::json updates_json(const sw::fuse::PoseEkf& filter) {
@@ -341,6 +368,8 @@ void run_sim(const SimCommand& command, std::ostream& out, bool json,
         "the start{}\n",
         fused.return_to_start_m * 1e3,
         system.tour().station ? " (Liu et al. report about 100 mm)" : "");
+  if (const std::string returns = returns_line(report); !returns.empty())
+    out << returns;
   out << fmt::format(
       "humps and slip: min-select odometry RMS {:.1f} mm beside rear-only {:.1f} mm and "
       "front-only {:.1f} mm (Kurian et al.: the smaller increments drop the over-counts; they "

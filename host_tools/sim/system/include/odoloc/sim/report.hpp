@@ -45,6 +45,10 @@ struct SourceErrors {
   double rms_heading_rad = 0;
   double return_to_start_m = 0;  // |p_last - p_start|; NaN: the run was cut short
   bool has_heading = true;
+  // At each return to the start (mark_return): |p - p_true|, Liu et al.'s
+  // statistic (the calculated position against the point the robot
+  // stopped at).
+  std::vector<double> returns_m;
 };
 
 class ErrorReport {
@@ -61,6 +65,9 @@ class ErrorReport {
            bool has_heading = true);
   [[nodiscard]] SourceErrors errors(Source source) const;
   [[nodiscard]] const std::vector<Source>& sources() const { return rows_; }
+  // The robot stands back at its start after a lap: each source's last
+  // sample's error is one return (SourceErrors::returns_m).
+  void mark_return();
   // The run stopped before the tour's end (--duration): the robot is not
   // back at the start, so no source has a return-to-start error (NaN, "-").
   void cut_short() { returns_to_start_ = false; }
@@ -74,6 +81,7 @@ class ErrorReport {
     double position2 = 0, heading2 = 0;
     world::Pose last, last_truth;
     bool has_heading = true;
+    std::vector<double> returns;
   };
   world::Pose start_;
   std::vector<Source> rows_;

@@ -43,14 +43,22 @@ std::vector<Source> table_rows(const LocalisationSystem& system);
 class ErrorSink final : public FrameSink {
  public:
   explicit ErrorSink(const LocalisationSystem& system)
-      : report_(system.tour().drive.start, table_rows(system)) {}
+      : report_(system.tour().drive.start, table_rows(system)),
+        start_(system.tour().drive.start),
+        last_truth_(start_) {}
   void frame(const Frame& frame, LocalisationSystem& system) override;
   // A run cut short (LocalisationSystem::cut_short) has no return to start.
   void finish(LocalisationSystem& system) override;
   [[nodiscard]] const ErrorReport& report() const { return report_; }
 
  private:
+  // A return is marked when the robot leaves the start again after
+  // standing on it (or the run ends there), having been away.
+  [[nodiscard]] bool standing_at_start(const world::Pose& truth) const;
   ErrorReport report_;
+  world::Pose start_;
+  world::Pose last_truth_;
+  bool away_ = false, standing_ = false;
 };
 
 // Two CSV files (comma-separated, a header line, SI units: m, rad, s of
