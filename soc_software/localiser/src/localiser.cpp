@@ -1,6 +1,7 @@
 // The SoC's localisation loop (localiser.hpp).
 #include "odoloc/sw/localiser.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -56,8 +57,22 @@ void LocaliserConfig::validate() const {
   detail::require(static_cast<int>(layout.beacons.size()) == kleeman.schedule.beacons, kOwner,
                   "layout must have one beacon per kleeman.schedule.beacons");
   const bool beacons = kleeman.schedule.beacons > 0;
-  detail::require(beacons || (station && start_covariance), kOwner,
-                  "without beacons the base station and start_covariance are needed");
+  detail::require(beacons || (station && start_covariance) || thamma, kOwner,
+                  "without beacons the base station and start_covariance, or Thamma's "
+                  "stations, are needed");
+  if (thamma) {
+    detail::require(!beacons && !station, kOwner,
+                    "Thamma's stations exclude beacons and the base station (the sync input)");
+    detail::require(capture.sync_enable, kOwner,
+                    "Thamma's stations need capture.sync_enable (their triggers)");
+    detail::require(static_cast<int>(thamma->stations.beacons.size()) == thamma->schedule.stations,
+                    kOwner, "thamma.stations must have one station per thamma.schedule.stations");
+    thamma->measure.validate();
+    thamma->schedule.validate();
+    thamma->stations.validate();
+    thamma->body.validate();
+    thamma->pose.validate();
+  }
   detail::require(!start_covariance || start_covariance->allFinite(), kOwner,
                   "start_covariance must be finite");
   detail::require(!liu_filter || station, kOwner, "liu_filter needs the base station");
@@ -108,6 +123,8 @@ Localiser::Localiser(RegisterBus& bus, const LocaliserConfig& config, station::L
   }
   if (config_.liu_filter)
     liu_.emplace(*config_.liu_filter);
+  if (config_.thamma)
+    thamma_.emplace(config_.thamma->measure, config_.thamma->schedule);
   odometry_.configure(config_.vehicle, config_.min_select, config_.update_clocks, config_.policy);
   odometry_.set_pose(config_.start_pose.x(), config_.start_pose.y(), config_.start_pose.z());
   std::uint32_t armed = 0;
@@ -156,6 +173,12 @@ LocaliserStep Localiser::step() {
       listener_->push(*out.batch);
       take_ranges(out);
     }
+    if (thamma_)
+      for (tof::ThammaCycle& c : thamma_->push(*out.batch)) {
+        ThammaResult& r = out.thamma.emplace_back();
+        r.cycle = std::move(c);
+        process(r);
+      }
   }
   out.estimate = ekf_.estimate();
   if (liu_)
@@ -206,16 +229,60 @@ void Localiser::initialise_from(const CycleResult& cycle) {
   covariance.topLeftCorner<2, 2>() = cycle.fix.covariance_m2;
   covariance(2, 2) = cycle.heading.sd_rad * cycle.heading.sd_rad;
   const fuse::Pose fix{{cycle.fix.position_m.x, cycle.fix.position_m.y, cycle.heading.heading_rad}};
-  ekf_.initialise(cycle.time_s, fix, covariance);
-  // The odometry since the fix's time, onto the new pose.
-  fuse::Pose from = odometry_at(cycle.time_s);
+  initialise_at(cycle.time_s, fix, covariance);
+}
+
+void Localiser::initialise_at(double time_s, const fuse::Pose& pose,
+                              const fuse::Matrix3& covariance) {
+  ekf_.initialise(time_s, pose, covariance);
+  // The odometry since then, onto the new pose.
+  fuse::Pose from = odometry_at(time_s);
   for (const OdometrySample& s : track_) {
-    if (s.time_s <= cycle.time_s)
+    if (s.time_s <= time_s)
       continue;
     ekf_.predict(s.time_s, fuse::Increment{fuse::increment_between(from, s.pose)});
     from = s.pose;
   }
   start_liu_filter();
+}
+
+void Localiser::process(ThammaResult& result) {
+  const LocaliserConfig::Thamma& th = *config_.thamma;
+  const tof::ThammaCycle& cycle = result.cycle;
+  // The pose at the middle of the cycle; each station's range from where
+  // the odometry puts each box at that station's time.
+  result.time_s = (cycle.station_time_s.front() + cycle.station_time_s.back()) / 2;
+  const fuse::Pose at_pose = odometry_at(result.time_s);
+  locate::ThammaMotion motion;
+  for (const double t : cycle.station_time_s) {
+    const fuse::Vector3 d = fuse::increment_between(at_pose, odometry_at(t));
+    const Eigen::Rotation2Dd turn(d(2));
+    for (const auto& [point, out] :
+         {std::pair{th.body.head_m, &motion.head}, std::pair{th.body.tail_m, &motion.tail}}) {
+      const fuse::Vector2 o{point.x, point.y};
+      const fuse::Vector2 moved = d.head<2>() + turn * o - o;
+      out->push_back({moved.x(), moved.y()});
+    }
+  }
+  result.pose = locate::thamma_pose(th.stations, cycle.per_station, th.body, th.pose, motion);
+  if (!result.pose.valid)
+    return;
+  if (!ekf_.estimate().initialised) {
+    const fuse::Pose pose{
+        {result.pose.position_m.x, result.pose.position_m.y, result.pose.heading_rad}};
+    initialise_at(result.time_s, pose, result.pose.covariance);
+    result.head = result.tail = fuse::Outcome::kAccepted;
+    return;
+  }
+  const auto body_point = [](const locate::Fix& fix, const tof::Vec2& point) {
+    fuse::BodyPointFix f;
+    f.body_point_m = {point.x, point.y};
+    f.position_m = {fix.position_m.x, fix.position_m.y};
+    f.covariance_m2 = fix.covariance_m2;
+    return f;
+  };
+  result.head = ekf_.update(result.time_s, body_point(result.pose.head, th.body.head_m));
+  result.tail = ekf_.update(result.time_s, body_point(result.pose.tail, th.body.tail_m));
 }
 
 void Localiser::start_liu_filter() {

@@ -278,6 +278,7 @@ void ThammaPoseOptions::validate() const {
           "heading_tolerance_rad must be finite and positive");
   require(std::isfinite(separation_sigmas) && separation_sigmas > 0, "ThammaPoseOptions",
           "separation_sigmas must be finite and positive");
+  require(min_repeats >= 1, "ThammaPoseOptions", "min_repeats must be at least 1");
 }
 
 std::string_view name(ThammaPoseReason reason) {
@@ -415,29 +416,43 @@ RangeSet box_ranges(std::span<const tof::ThammaMeasurement> per_station, int box
 
 ThammaPose thamma_pose(const BeaconLayout& stations,
                        std::span<const tof::ThammaMeasurement> per_station, const ThammaBody& body,
-                       const ThammaPoseOptions& options) {
+                       const ThammaPoseOptions& options, const ThammaMotion& motion) {
   stations.validate();
   body.validate();
   options.validate();
-  const RangeSet head_ranges = box_ranges(per_station, body.head_box);
-  const RangeSet tail_ranges = box_ranges(per_station, body.tail_box);
+  for (const std::vector<Vec2>* m : {&motion.head, &motion.tail})
+    if (!m->empty() && m->size() != per_station.size())
+      throw std::invalid_argument("thamma_pose: a motion per station, or none");
+  const auto heard = [&](int box) {
+    RangeSet set = box_ranges(per_station, box);
+    for (std::size_t s = 0; s < per_station.size(); ++s)
+      if (per_station[s].boxes[static_cast<std::size_t>(box)].used < options.min_repeats)
+        set.beacons[s].flags.set(tof::Flag::kMissing);
+    return set;
+  };
+  const RangeSet head_ranges = heard(body.head_box);
+  const RangeSet tail_ranges = heard(body.tail_box);
   const auto solve = options.least_squares ? thamma_least_squares : thamma_trilateration;
   // The receiver that heard station s, relative to the box's reference
-  // point (body frame); zero when unknown.
-  const auto offsets = [&](int box, Vec2 reference) {
+  // point (body frame; zero when unknown), plus where the box was then.
+  const auto offsets = [&](int box, Vec2 reference, const std::vector<Vec2>& moved_by) {
     std::vector<Eigen::Vector2d> out(per_station.size(), Eigen::Vector2d::Zero());
     for (std::size_t s = 0; s < per_station.size(); ++s) {
+      if (!moved_by.empty())
+        out[s] = vec(moved_by[s]);
       if (static_cast<std::size_t>(box) >= per_station[s].boxes.size())
         continue;
       const int ch = first_channel(per_station[s].boxes[static_cast<std::size_t>(box)]);
       if (ch >= 0 && static_cast<std::size_t>(ch) < body.receivers.receivers.size())
-        out[s] =
+        out[s] +=
             vec(body.receivers.receivers[static_cast<std::size_t>(ch)].position_m) - vec(reference);
     }
     return out;
   };
-  const std::vector<Eigen::Vector2d> head_offsets = offsets(body.head_box, body.head_m);
-  const std::vector<Eigen::Vector2d> tail_offsets = offsets(body.tail_box, body.tail_m);
+  const std::vector<Eigen::Vector2d> head_offsets =
+      offsets(body.head_box, body.head_m, motion.head);
+  const std::vector<Eigen::Vector2d> tail_offsets =
+      offsets(body.tail_box, body.tail_m, motion.tail);
   const bool any_offset = std::any_of(head_offsets.begin(), head_offsets.end(),
                                       [](const Eigen::Vector2d& o) { return !o.isZero(); }) ||
                           std::any_of(tail_offsets.begin(), tail_offsets.end(),
@@ -464,11 +479,27 @@ ThammaPose thamma_pose(const BeaconLayout& stations,
   // offsets turned by theta, then their heading), contracting by about the
   // offsets over the separation per pass; secant steps after the second
   // pass make it superlinear. Pass 0 ignores the offsets.
+  // Pass 0 does not know where on its box each range ends: up to the
+  // farthest receiver from the box's reference point, which it takes as
+  // each range's uncertainty (a fix a few centimetres off, to start from).
+  const auto unplaced = [](RangeSet ranges, const std::vector<Eigen::Vector2d>& o) {
+    double reach = 0;
+    for (const Eigen::Vector2d& v : o)
+      reach = std::max(reach, v.norm());
+    for (BeaconRange& b : ranges.beacons)
+      for (RangeCandidate& c : b.candidates)
+        c.sd_m = std::hypot(c.sd_m, reach);
+    return ranges;
+  };
+  const RangeSet head_unplaced = unplaced(head_ranges, head_offsets);
+  const RangeSet tail_unplaced = unplaced(tail_ranges, tail_offsets);
   double theta = 0, previous_theta = 0, previous_f = kNaN;
   for (int pass = 0; pass < options.max_passes; ++pass) {
     const bool shift = pass > 0;
-    pose.head = solve(shift ? moved(head_offsets, theta) : stations, head_ranges, options.fix);
-    pose.tail = solve(shift ? moved(tail_offsets, theta) : stations, tail_ranges, options.fix);
+    pose.head = shift ? solve(moved(head_offsets, theta), head_ranges, options.fix)
+                      : solve(stations, head_unplaced, options.fix);
+    pose.tail = shift ? solve(moved(tail_offsets, theta), tail_ranges, options.fix)
+                      : solve(stations, tail_unplaced, options.fix);
     pose.passes = pass + 1;
     if (!any_offset || !std::isfinite(pose.head.position_m.x) ||
         !std::isfinite(pose.tail.position_m.x))

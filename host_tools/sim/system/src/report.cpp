@@ -98,6 +98,41 @@ std::string ErrorReport::table() const {
   return out;
 }
 
+void DistanceStudy::add(double distance_m, double position_error_m, double heading_error_rad) {
+  const auto bin = static_cast<std::size_t>(std::max(0.0, std::floor(distance_m / bin_m_)));
+  if (bins_.size() <= bin)
+    bins_.resize(bin + 1);
+  Bin& b = bins_[bin];
+  ++b.poses;
+  b.position2 += position_error_m * position_error_m;
+  b.heading2 += heading_error_rad * heading_error_rad;
+  b.worst_m = std::max(b.worst_m, position_error_m);
+}
+
+std::size_t DistanceStudy::poses() const {
+  std::size_t n = 0;
+  for (const Bin& b : bins_)
+    n += b.poses;
+  return n;
+}
+
+std::string DistanceStudy::table() const {
+  std::string out = fmt::format("{:<20} {:>6} {:>10} {:>11} {:>18}\n", "nearest station (m)",
+                                "poses", "RMS (mm)", "worst (mm)", "heading RMS (deg)");
+  for (std::size_t i = 0; i < bins_.size(); ++i) {
+    const Bin& b = bins_[i];
+    if (b.poses == 0)
+      continue;
+    const auto n = static_cast<double>(b.poses);
+    out += fmt::format("{:<20} {:>6} {:>10.1f} {:>11.1f} {:>18.2f}\n",
+                       fmt::format("{:.0f} to {:.0f}", static_cast<double>(i) * bin_m_,
+                                   static_cast<double>(i + 1) * bin_m_),
+                       b.poses, std::sqrt(b.position2 / n) * 1e3, b.worst_m * 1e3,
+                       std::sqrt(b.heading2 / n) * kDegPerRad);
+  }
+  return out;
+}
+
 std::string update_summary(const sw::fuse::PoseEkf& filter) {
   std::string out = fmt::format("{:<18} {:>9} {:>9} {:>7} {:>8}\n", "filter update", "accepted",
                                 "reopened", "gated", "refused");

@@ -67,7 +67,7 @@ class ScenarioReader {
       r_.fail(root, "a scenario is a YAML mapping (docs/scenarios.md)");
     r_.check_keys(root, "scenario",
                   {"name", "seed", "room", "air", "noise", "beacons", "station", "robot", "path",
-                   "stationary", "disturbances", "survey", "liu_filter"});
+                   "stationary", "disturbances", "survey", "liu_filter", "thamma"});
     Scenario s;
     world::RoomTour& tour = s.tour;
     const std::string name = r_.scalar(r_.required(root, "name", "scenario"), "name");
@@ -87,8 +87,15 @@ class ScenarioReader {
     read_robot(r_.required(root, "robot", "scenario"), tour);
     if (const Node station = root["station"])
       read_station(station, tour);
-    else if (!root["beacons"])
-      r_.fail(root, "scenario: no 'beacons' and no 'station': nothing to localise with");
+    if (const Node thamma = root["thamma"]) {
+      if (root["beacons"] || root["station"])
+        r_.fail(thamma,
+                "thamma: Thamma's stations exclude 'beacons' and 'station' (the sync "
+                "input and the receivers are theirs)");
+      read_thamma(thamma, tour);
+    }
+    if (!root["beacons"] && !root["station"] && !root["thamma"])
+      r_.fail(root, "scenario: no 'beacons', 'station' or 'thamma': nothing to localise with");
     if (root["stationary"] && !root["beacons"])
       r_.fail(root["stationary"], "stationary: Kleeman's experiment needs 'beacons'");
     if (root["path"] && root["stationary"])
@@ -254,6 +261,46 @@ class ScenarioReader {
     read_laser(r_.required(node, "robot_laser", "station"), "station.robot_laser",
                station.robot_laser);
   }
+  // Thamma's stations: every acoustics beacon, fired in the list's order.
+  void read_thamma(const Node& node, world::RoomTour& tour) const {
+    r_.check_keys(node, "thamma",
+                  {"repeats", "period_s", "pulse_s", "cycle_gap_s", "first_trigger_s", "delay_s",
+                   "transmitter", "stations"});
+    world::ThammaStations& th = tour.thamma.emplace();
+    world::TriggeredTiming& t = th.timing;
+    t.repeats = node["repeats"] ? r_.whole(node["repeats"], "thamma.repeats", 1, 16) : t.repeats;
+    t.period_s = r_.number_or(node, "period_s", "thamma", t.period_s, 1e-3, 10);
+    t.pulse_s = r_.number_or(node, "pulse_s", "thamma", t.pulse_s, 1e-5, 1);
+    t.cycle_gap_s = r_.number_or(node, "cycle_gap_s", "thamma", t.period_s, 0, 100);
+    th.first_trigger_s = r_.number_or(node, "first_trigger_s", "thamma", th.first_trigger_s, 0, 60);
+    world::Beacon base;
+    base.electronics_delay_s = r_.number_or(node, "delay_s", "thamma", 100e-6, 0, 0.1);
+    if (const Node tx = node["transmitter"]) {
+      r_.check_keys(tx, "thamma.transmitter",
+                    {"amplitude_1m_v", "piston_radius_m", "envelope_tau_s"});
+      base = transmitter(tx, "thamma.transmitter", base);
+    }
+    const Node list = r_.required(node, "stations", "thamma");
+    r_.sequence(list, "thamma.stations");
+    for (const Node& st : list) {
+      r_.check_keys(st, "thamma.stations[]",
+                    {"position", "axes_deg", "carrier_hz", "amplitude_1m_v", "piston_radius_m",
+                     "envelope_tau_s"});
+      world::Beacon b = transmitter(st, "station", base);
+      b.position = point(r_.required(st, "position", "station"), "station.position");
+      b.axes_rad = axes(r_.required(st, "axes_deg", "station"), "station.axes_deg");
+      tour.acoustics.beacons.push_back(b);
+    }
+    if (list.size() < 2 || list.size() > 16)
+      r_.fail(list, "thamma.stations: 2 to 16 stations");
+    if (t.period_s <= t.pulse_s)
+      r_.fail(node, "thamma: period_s must exceed pulse_s");
+    if (t.cycle_gap_s < t.period_s / 2)
+      r_.fail(node,
+              "thamma: cycle_gap_s must be at least half period_s (the robot frames the "
+              "cycles on it)");
+  }
+
   void read_laser(const Node& node, std::string_view where, world::ScanningLaser& laser) const {
     r_.check_keys(node, where,
                   {"sweep_start_deg", "sweep_width_deg", "period_s", "phase_s", "counts_per_rev"});
@@ -315,9 +362,15 @@ class ScenarioReader {
   }
 
   void read_receivers(const Node& node, std::vector<world::Receiver>& out) const {
-    r_.check_keys(node, "robot.receivers", {"octagon", "list"});
-    if (node["octagon"] && node["list"])
-      r_.fail(node, "robot.receivers: an octagon or a list, not both");
+    r_.check_keys(node, "robot.receivers", {"octagon", "list", "boxes"});
+    if ((node["octagon"] ? 1 : 0) + (node["list"] ? 1 : 0) + (node["boxes"] ? 1 : 0) > 1)
+      r_.fail(node, "robot.receivers: one of octagon, list or boxes");
+    if (const Node b = node["boxes"]) {
+      r_.check_keys(b, "robot.receivers.boxes", {"head", "tail"});
+      out = world::thamma_boxes(point(r_.required(b, "head", "boxes"), "boxes.head"),
+                                point(r_.required(b, "tail", "boxes"), "boxes.tail"));
+      return;
+    }
     if (const Node o = node["octagon"]) {
       r_.check_keys(o, "robot.receivers.octagon", {"side_m", "centre"});
       const Vec2 centre = o["centre"] ? point(o["centre"], "octagon.centre") : Vec2{};
@@ -547,7 +600,7 @@ class ScenarioReader {
   void read_survey(const Node& node, const world::RoomTour& tour, Survey& survey) const {
     r_.check_keys(node, "survey",
                   {"beacons", "beacon_height_m", "temperature_c", "envelope_tau_s", "path_jitter_s",
-                   "receiver_jitter_s", "station", "start"});
+                   "receiver_jitter_s", "station", "start", "thamma"});
     if (tour.timing.beacon_count > 0 || node["beacons"]) {
       const Node beacons = r_.required(node, "beacons", "survey");
       r_.sequence(beacons, "survey.beacons");
@@ -564,9 +617,28 @@ class ScenarioReader {
           .heading_sd_rad = r_.number(r_.required(start, "heading_sd_deg", "survey.start"),
                                       "heading_sd_deg", 1e-6, 180) *
                             kDeg};
-    } else if (tour.timing.beacon_count == 0) {
+    } else if (tour.timing.beacon_count == 0 && !tour.thamma) {
       r_.fail(node,
               "survey: missing 'start' (without beacons the filter starts on the start mark)");
+    }
+    const Node thamma = node["thamma"];
+    if (static_cast<bool>(thamma) != tour.thamma.has_value())
+      r_.fail(thamma ? thamma : node,
+              tour.thamma ? "survey: missing 'thamma' (the scenario has Thamma's stations)"
+                          : "survey.thamma: the scenario has no Thamma stations");
+    if (thamma) {
+      r_.check_keys(thamma, "survey.thamma", {"stations", "delay_s", "head", "tail"});
+      SurveyedThamma& s = survey.thamma.emplace();
+      const Node stations = r_.required(thamma, "stations", "survey.thamma");
+      r_.sequence(stations, "survey.thamma.stations");
+      for (const Node& p : stations)
+        s.stations.push_back(point(p, "survey.thamma.stations[]"));
+      if (s.stations.size() != tour.acoustics.beacons.size())
+        r_.fail(stations, fmt::format("survey.thamma.stations: {} positions for {} stations",
+                                      s.stations.size(), tour.acoustics.beacons.size()));
+      s.delay_s = r_.number_or(thamma, "delay_s", "survey.thamma", 100e-6, 0, 0.1);
+      s.head = point(r_.required(thamma, "head", "survey.thamma"), "survey.thamma.head");
+      s.tail = point(r_.required(thamma, "tail", "survey.thamma"), "survey.thamma.tail");
     }
     survey.beacon_height_m = r_.number_or(node, "beacon_height_m", "survey", 0, 0, 100);
     survey.temperature_c = r_.number_or(node, "temperature_c", "survey", 20, -40, 60);
@@ -635,10 +707,13 @@ class ScenarioReader {
     };
     for (std::size_t i = 0; i < tour.acoustics.beacons.size(); ++i)
       if (!inside(tour.acoustics.beacons[i].position))
-        r_.fail(i < tour.timing.beacon_count ? root["beacons"]["list"][i] : root["station"],
+        r_.fail(tour.thamma                    ? root["thamma"]["stations"][i]
+                : i < tour.timing.beacon_count ? root["beacons"]["list"][i]
+                                               : root["station"],
                 fmt::format("{} at ({}, {}) m is outside the {} x {} m room",
-                            i < tour.timing.beacon_count ? fmt::format("beacon {}", i)
-                                                         : std::string("the station"),
+                            tour.thamma                    ? fmt::format("station {}", i)
+                            : i < tour.timing.beacon_count ? fmt::format("beacon {}", i)
+                                                           : std::string("the station"),
                             tour.acoustics.beacons[i].position.x_m,
                             tour.acoustics.beacons[i].position.y_m, room->width_m, room->depth_m));
     if (root["stationary"])

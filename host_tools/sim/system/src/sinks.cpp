@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <tuple>
@@ -73,10 +74,22 @@ world::Pose odometry_pose(const sw::LocaliserStep& step) {
 std::vector<Source> table_rows(const LocalisationSystem& system) {
   std::vector<Source> rows;
   for (const Source s : kAllSources)
-    if ((s != Source::kUltrasonic || system.tour().timing.beacon_count > 0) &&
+    if ((s != Source::kUltrasonic || system.tour().timing.beacon_count > 0 ||
+         system.tour().thamma) &&
         (s != Source::kLiuFilter || system.localiser().liu_filter() != nullptr))
       rows.push_back(s);
   return rows;
+}
+
+ErrorSink::ErrorSink(const LocalisationSystem& system)
+    : report_(system.tour().drive.start, table_rows(system)),
+      start_(system.tour().drive.start),
+      last_truth_(start_) {
+  if (system.tour().thamma) {
+    for (const world::Beacon& b : system.tour().acoustics.beacons)
+      stations_.push_back(b.position);
+    study_.emplace();
+  }
 }
 
 bool ErrorSink::standing_at_start(const world::Pose& truth) const {
@@ -111,6 +124,19 @@ void ErrorSink::frame(const Frame& frame, LocalisationSystem& system) {
     if (c.fix.valid)
       report_.add(Source::kUltrasonic, system.truth_at(system.to_sim_time(c.time_s)),
                   fix_pose(c.fix), false);
+  for (const sw::ThammaResult& t : frame.soc.thamma) {
+    study_->count_cycle();
+    if (!t.pose.valid)
+      continue;
+    const world::Pose truth = system.truth_at(system.to_sim_time(t.time_s));
+    const world::Pose pose = pose_of(t.pose.position_m.x, t.pose.position_m.y, t.pose.heading_rad);
+    report_.add(Source::kUltrasonic, truth, pose);
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const world::Vec2& s : stations_)
+      nearest = std::min(nearest, std::hypot(truth.x_m - s.x_m, truth.y_m - s.y_m));
+    study_->add(nearest, std::hypot(pose.x_m - truth.x_m, pose.y_m - truth.y_m),
+                std::remainder(pose.theta_rad - truth.theta_rad, 2 * std::numbers::pi));
+  }
   if (frame.soc.estimate.initialised)
     report_.add(Source::kFused, frame.truth, fused_pose(frame.soc));
   if (frame.soc.liu && frame.soc.liu->initialised) {

@@ -48,6 +48,35 @@ world::Trajectory prepass(const world::Scenario& drive, double end_s,
   return world::interpolate(std::move(samples));
 }
 
+// Thamma's stations and boxes as the SoC is told them: the surveyed
+// places, the controller's protocol (repeats, period, gap: the stations'
+// data), the calibrated delay t and envelope, the boxes' drawing (120 x 80
+// mm, a receiver on each side: head channels 0-3 at 40 kHz, tail 4-7 at
+// 32.5 kHz).
+sw::LocaliserConfig::Thamma thamma_config(const world::ThammaStations& stations,
+                                          const SurveyedThamma& surveyed, const Survey& survey,
+                                          double speed_of_sound_mps) {
+  sw::LocaliserConfig::Thamma t;
+  t.measure.fixed_delay_s = surveyed.delay_s;
+  t.measure.repeats = stations.timing.repeats;
+  t.measure.envelope.rise_s = survey.envelope_tau_s;
+  t.measure.envelope.fall_s = survey.envelope_tau_s;
+  t.measure.envelope.burst_s = stations.timing.pulse_s;
+  t.measure.speed_of_sound_mps = speed_of_sound_mps;
+  t.measure.timing_sd_s = std::hypot(survey.path_jitter_s, survey.receiver_jitter_s);
+  t.schedule.stations = static_cast<int>(surveyed.stations.size());
+  t.schedule.repeats = static_cast<int>(stations.timing.repeats);
+  t.schedule.period_s = stations.timing.period_s;
+  t.schedule.cycle_gap_s = stations.timing.cycle_gap_s;
+  for (const world::Vec2& s : surveyed.stations)
+    t.stations.beacons.push_back({{s.x_m, s.y_m}, 0});
+  t.body.head_m = {surveyed.head.x_m, surveyed.head.y_m};
+  t.body.tail_m = {surveyed.tail.x_m, surveyed.tail.y_m};
+  for (const world::Receiver& r : world::thamma_boxes(surveyed.head, surveyed.tail))
+    t.body.receivers.receivers.push_back({{r.position.x_m, r.position.y_m}, r.axis_rad});
+  return t;
+}
+
 // What the SoC software is told about the world (the scenario's survey,
 // docs/scenarios.md): the vehicle's nominal geometry, the start mark, the
 // capture channels wired, the beacons' surveyed positions and the
@@ -100,6 +129,20 @@ sw::LocaliserConfig soc_config(const world::RoomTour& tour, const Survey& survey
     sc.ranging_after_alpha_s =
         tour.timing.cycle_s() + tour.station->request_margin_s + tour.station->rf_spacing_s;
     c.capture.sync_enable = true;
+  }
+  if (survey.thamma && tour.thamma) {
+    c.thamma = thamma_config(*tour.thamma, *survey.thamma, survey, speed_of_sound_mps);
+    // A range is no better than the capture chain (as the beacons' ranges).
+    c.thamma->pose.fix.min_sd_m = c.chain_sd_m;
+    // Thamma averages four repeats; a range heard in fewer than half of
+    // them is noise or an echo more often than the burst.
+    c.thamma->pose.min_repeats = static_cast<int>((tour.thamma->timing.repeats + 1) / 2);
+  }
+  if (c.thamma) {
+    c.capture.sync_enable = true;
+    // Thamma counts at 20 MHz; the capture unit divides the fabric's 50 MHz
+    // by an integer: 25 MHz (40 ns) is the nearest at least as fine.
+    c.capture.timebase.prescale = 1;
   }
   return c;
 }

@@ -40,14 +40,14 @@ Schedule kleeman_schedule(const KleemanTiming& timing, std::size_t cycles, doubl
 Schedule triggered_schedule(const TriggeredTiming& timing, std::size_t beacon_count,
                             std::size_t cycles, double start_s) {
   if (timing.repeats == 0 || !(timing.pulse_s > 0) || !(timing.sync_pulse_s > 0) ||
-      timing.period_s < timing.pulse_s)
+      timing.period_s < timing.pulse_s || !(timing.cycle_gap_s >= 0))
     throw std::invalid_argument("triggered_schedule: inconsistent timing");
   Schedule s;
-  std::size_t trigger = 0;
   for (std::size_t cycle = 0; cycle < cycles; ++cycle)
     for (std::size_t b = 0; b < beacon_count; ++b)
       for (std::size_t r = 0; r < timing.repeats; ++r) {
-        const double t = start_s + static_cast<double>(trigger++) * timing.period_s;
+        const double t = start_s + static_cast<double>(cycle) * timing.cycle_s(beacon_count) +
+                         static_cast<double>(b * timing.repeats + r) * timing.period_s;
         s.sync.push_back({b, t, timing.sync_pulse_s});
         s.emissions.push_back({b, t, timing.pulse_s});
       }

@@ -11,6 +11,13 @@ StationPlan RoomTour::station_plan(const Trajectory& robot) const {
 }
 
 Schedule RoomTour::schedule(const StationPlan& plan) const {
+  if (thamma) {
+    const TriggeredTiming& t = thamma->timing;
+    const std::size_t n = acoustics.beacons.size();
+    const auto cycles =
+        static_cast<std::size_t>(std::ceil((duration_s - thamma->first_trigger_s) / t.cycle_s(n)));
+    return triggered_schedule(t, n, cycles, thamma->first_trigger_s);
+  }
   const auto cycles =
       static_cast<std::size_t>(std::ceil((duration_s - first_burst_s) / timing.cycle_s()));
   Schedule s = kleeman_schedule(timing, cycles, first_burst_s);

@@ -333,6 +333,22 @@ void run_sim(const SimCommand& command, std::ostream& out, bool json,
                         {"malformed_messages", summary.malformed},
                         {"table", table_json(report)},
                         {"filter_updates", updates_json(system.localiser().filter())}};
+    if (const sim::DistanceStudy* study = errors.distance_study()) {
+      nlohmann::json bins = nlohmann::json::array();
+      for (std::size_t i = 0; i < study->bins().size(); ++i) {
+        const sim::DistanceStudy::Bin& b = study->bins()[i];
+        if (b.poses == 0)
+          continue;
+        const auto n = static_cast<double>(b.poses);
+        bins.push_back({{"from_m", static_cast<double>(i) * study->bin_m()},
+                        {"to_m", static_cast<double>(i + 1) * study->bin_m()},
+                        {"poses", b.poses},
+                        {"rms_position_m", std::sqrt(b.position2 / n)},
+                        {"worst_position_m", b.worst_m},
+                        {"rms_heading_rad", std::sqrt(b.heading2 / n)}});
+      }
+      j["thamma"] = {{"cycles", study->cycles()}, {"poses", study->poses()}, {"by_distance", bins}};
+    }
     if (const sw::fuse::LiuFilter* liu = system.localiser().liu_filter())
       j["liu_filter"] = {{"fixes", liu->stats().fixes},
                          {"fixes_gated", liu->stats().fixes_gated},
@@ -377,6 +393,13 @@ void run_sim(const SimCommand& command, std::ostream& out, bool json,
       report.errors(sim::Source::kMinSelect).rms_position_m * 1e3,
       report.errors(sim::Source::kRearOdometry).rms_position_m * 1e3,
       report.errors(sim::Source::kFrontOdometry).rms_position_m * 1e3);
+  if (const sim::DistanceStudy* study = errors.distance_study()) {
+    out << fmt::format(
+               "\nThamma's poses against the distance from the stations ({} of {} cycles gave a "
+               "pose; Thamma proposes the study and gives no figure):\n",
+               study->poses(), study->cycles())
+        << study->table();
+  }
   out << '\n' << sim::update_summary(system.localiser().filter());
   if (const sw::fuse::LiuFilter* liu = system.localiser().liu_filter())
     out << fmt::format(

@@ -56,6 +56,8 @@
 #include "odoloc/sw/odometry_driver.hpp"
 #include "odoloc/sw/pose_ekf.hpp"
 #include "odoloc/sw/register_bus.hpp"
+#include "odoloc/sw/thamma_cycle.hpp"
+#include "odoloc/sw/thamma_pose.hpp"
 #include "odoloc/sw/tof_capture_driver.hpp"
 
 namespace odoloc::sw {
@@ -103,6 +105,21 @@ struct LocaliserConfig {
   // Liu et al.'s own filter beside the EKF (needs the station).
   std::optional<fuse::LiuFilterOptions> liu_filter;
 
+  // Thamma's RF-triggered stations and the head and tail boxes: each
+  // cycle's ranges (thamma_cycle.hpp) give the boxes' fixes and the pose
+  // (thamma_pose.hpp); the first valid pose initialises the filter, the
+  // later ones are fused as two body points, each at its stations' time.
+  // Needs capture.sync_enable (the triggers); excludes beacons and the base
+  // station (the sync input is the stations').
+  struct Thamma {
+    tof::ThammaConfig measure;
+    tof::ThammaSchedule schedule;
+    locate::BeaconLayout stations;  // index = the station's place in the cycle
+    locate::ThammaBody body;
+    locate::ThammaPoseOptions pose;
+  };
+  std::optional<Thamma> thamma;
+
   // Throws std::invalid_argument naming the first bad field.
   void validate() const;
 };
@@ -129,6 +146,18 @@ struct StationUpdate {
   fuse::Outcome fused = fuse::Outcome::kNotInitialised;
 };
 
+// One of Thamma's cycles and what the loop made of it.
+struct ThammaResult {
+  tof::ThammaCycle cycle;
+  locate::ThammaPose pose;
+  double time_s = 0;  // the pose's: the middle of the cycle's stations (the ranges
+                      // moved there by the odometry)
+  // The head and tail points' updates (kNotInitialised before the first
+  // pose; the cycle that initialised the filter: kAccepted for both).
+  fuse::Outcome head = fuse::Outcome::kNotInitialised;
+  fuse::Outcome tail = fuse::Outcome::kNotInitialised;
+};
+
 struct LocaliserStep {
   double time_s = 0;  // the timestamp read with the odometry snapshot
   FabricOdometry odometry;
@@ -140,6 +169,7 @@ struct LocaliserStep {
   std::optional<tof::CaptureBatch> batch;  // when this step drained the capture unit
   std::vector<CycleResult> cycles;         // the cycles this step's batch completed
   std::vector<StationUpdate> station;      // the base station's measurements this step made
+  std::vector<ThammaResult> thamma;        // Thamma's cycles this step's batch completed
   fuse::Estimate estimate;                 // at time_s (not initialised before the first fix)
   std::optional<fuse::LiuEstimate> liu;    // Liu's filter at time_s, when configured
 };
@@ -178,6 +208,10 @@ class Localiser {
   [[nodiscard]] fuse::Pose odometry_at(double time_s) const;
   void process(CycleResult& cycle);
   void initialise_from(const CycleResult& cycle);
+  // The filter starts at time_s (in the past) and the odometry kept since
+  // is replayed onto it.
+  void initialise_at(double time_s, const fuse::Pose& pose, const fuse::Matrix3& covariance);
+  void process(ThammaResult& result);
   // Liu's filter starts where the EKF first has a pose.
   void start_liu_filter();
   [[nodiscard]] fuse::RangeSet motion_compensated(const tof::CycleMeasurement& cycle) const;
@@ -194,6 +228,7 @@ class Localiser {
   OdometryDriver odometry_;
   tof::CaptureDriver capture_;
   std::optional<tof::BeaconCycleDecoder> decoder_;  // with beacons
+  std::optional<tof::ThammaCycleDecoder> thamma_;   // with Thamma's stations
   fuse::PoseEkf ekf_;
   std::optional<fuse::LiuFilter> liu_;
   std::deque<OdometrySample> track_;  // the fabric's poses of the last steps

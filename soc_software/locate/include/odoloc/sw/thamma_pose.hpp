@@ -92,6 +92,10 @@ struct ThammaPoseOptions {
   double heading_tolerance_rad = 1e-10;
   // |head - tail| further than this many sd from the body's separation: kSeparationMismatch.
   double separation_sigmas = 3.0;
+  // A box's range from fewer of the burst's repeats is not used (missing):
+  // one pulse of four that agrees with nothing is likelier noise than the
+  // burst.
+  int min_repeats = 1;
 
   void validate() const;  // std::invalid_argument naming the field (fix included)
 };
@@ -122,13 +126,25 @@ struct ThammaPose {
   int passes = 0;  // fix-heading passes (receiver offsets)
 };
 
-// Both boxes' fixes, the heading from the tail to the head, the body origin.
-// With receivers in the body, each range is corrected for the receiver that
-// heard it first (ThammaRepeat::channel of the first used repeat): the
-// station's circle is moved by -R(heading) (receiver - box reference), and
-// the fixes are repeated with the new heading.
+// A moving vehicle: the stations fire one after the other (Thamma: 0.4 s
+// apart), so each range is from another place. Per station (index =
+// station), where each box's reference point was at that station's time
+// relative to where it is at the pose's time, in the body frame at the
+// pose's time (from the odometry). Empty: the vehicle stood.
+struct ThammaMotion {
+  std::vector<Vec2> head, tail;
+};
+
+// Both boxes' fixes, the heading from the tail to the head, the body origin,
+// at the pose's time. With receivers in the body, each range is corrected
+// for the receiver that heard it first (ThammaRepeat::channel of the first
+// used repeat), and with `motion` for where the box was: the station's
+// circle is moved by -R(heading) (receiver - box reference + motion), and
+// the fixes are repeated with the new heading. The first pass, which does
+// not know the heading, takes the largest of those offsets as each range's
+// uncertainty. Throws std::invalid_argument for a motion of the wrong size.
 ThammaPose thamma_pose(const BeaconLayout& stations,
                        std::span<const tof::ThammaMeasurement> per_station, const ThammaBody& body,
-                       const ThammaPoseOptions& options = {});
+                       const ThammaPoseOptions& options = {}, const ThammaMotion& motion = {});
 
 }  // namespace odoloc::sw::locate

@@ -89,6 +89,34 @@ class ErrorReport {
   std::array<Sums, kSources> sums_{};
 };
 
+// Thamma's proposed study (sec. VII: "a statistical study based on the
+// relationship between distance of vehicle from the transmitter and
+// position error"): each ultrasonic pose's position and heading error,
+// binned by the vehicle's distance from the nearest station.
+class DistanceStudy {
+ public:
+  explicit DistanceStudy(double bin_m = 1.0) : bin_m_(bin_m) {}
+  void add(double distance_m, double position_error_m, double heading_error_rad);
+  // A cycle, with a pose or without.
+  void count_cycle() { ++cycles_; }
+  [[nodiscard]] std::size_t cycles() const { return cycles_; }
+  [[nodiscard]] std::size_t poses() const;
+  // One row per bin with poses: the distance range, the poses, RMS and
+  // worst position error (mm), RMS heading error (degrees).
+  [[nodiscard]] std::string table() const;
+  struct Bin {
+    std::size_t poses = 0;
+    double position2 = 0, heading2 = 0, worst_m = 0;
+  };
+  [[nodiscard]] const std::vector<Bin>& bins() const { return bins_; }
+  [[nodiscard]] double bin_m() const { return bin_m_; }
+
+ private:
+  double bin_m_;
+  std::vector<Bin> bins_;  // index = floor(distance / bin_m)
+  std::size_t cycles_ = 0;
+};
+
 // What the filter did with each measurement type it was given, one line
 // per type with any: accepted, reopened, gated, refused (first passes, not
 // replays; sw::fuse::TypeStats).

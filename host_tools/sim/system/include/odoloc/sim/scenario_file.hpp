@@ -30,6 +30,13 @@ struct SurveyedStation {
   double max_range_m = 15;  // bursts are listened for this far (Liu: 35 m outdoors)
 };
 
+// Thamma's stations and the robot's boxes as surveyed and calibrated.
+struct SurveyedThamma {
+  std::vector<world::Vec2> stations;  // in firing order, world frame
+  double delay_s = 100e-6;            // t: trigger to sound plus the receivers' delay
+  world::Vec2 head, tail;             // the boxes' centres, body frame
+};
+
 // The start mark as surveyed: the robot is placed on it (path.start) within
 // these deviations, and the filter starts there (Liu's X(0|0), P(0|0)).
 struct SurveyedStart {
@@ -50,6 +57,7 @@ struct Survey {
   std::optional<SurveyedStation> station;
   // Set: the filter starts on the start mark (required without beacons).
   std::optional<SurveyedStart> start;
+  std::optional<SurveyedThamma> thamma;
   // Set: Liu et al.'s own filter runs beside the EKF (scenario key liu_filter).
   std::optional<sw::fuse::LiuFilterOptions> liu_filter;
 };

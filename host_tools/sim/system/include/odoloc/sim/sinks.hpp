@@ -42,14 +42,14 @@ std::vector<Source> table_rows(const LocalisationSystem& system);
 // start, with the system's rows.
 class ErrorSink final : public FrameSink {
  public:
-  explicit ErrorSink(const LocalisationSystem& system)
-      : report_(system.tour().drive.start, table_rows(system)),
-        start_(system.tour().drive.start),
-        last_truth_(start_) {}
+  explicit ErrorSink(const LocalisationSystem& system);
   void frame(const Frame& frame, LocalisationSystem& system) override;
   // A run cut short (LocalisationSystem::cut_short) has no return to start.
   void finish(LocalisationSystem& system) override;
   [[nodiscard]] const ErrorReport& report() const { return report_; }
+  // With Thamma's stations: their poses' errors against the distance from
+  // the stations (nullptr otherwise).
+  [[nodiscard]] const DistanceStudy* distance_study() const { return study_ ? &*study_ : nullptr; }
 
  private:
   // A return is marked when the robot leaves the start again after
@@ -59,6 +59,8 @@ class ErrorSink final : public FrameSink {
   world::Pose start_;
   world::Pose last_truth_;
   bool away_ = false, standing_ = false;
+  std::vector<world::Vec2> stations_;  // Thamma's, the truth
+  std::optional<DistanceStudy> study_;
 };
 
 // Two CSV files (comma-separated, a header line, SI units: m, rad, s of

@@ -52,9 +52,17 @@ struct TriggeredTiming {
   double period_s = 0.1;  // trigger to trigger
   double pulse_s = 1e-3;
   double sync_pulse_s = 10e-6;
+  // Silence after each cycle's last period: the robot frames the cycles on
+  // it (which station a trigger is, by its place in the cycle).
+  double cycle_gap_s = 0;
+
+  // beacon_count stations, `repeats` triggers each, then the gap.
+  [[nodiscard]] double cycle_s(std::size_t beacon_count) const {
+    return static_cast<double>(beacon_count * repeats) * period_s + cycle_gap_s;
+  }
 };
 // Beacon b, repeat r of a cycle is triggered at
-// start_s + ((cycle * beacon_count + b) * repeats + r) period_s.
+// start_s + cycle * cycle_s(beacon_count) + (b * repeats + r) period_s.
 Schedule triggered_schedule(const TriggeredTiming& timing, std::size_t beacon_count,
                             std::size_t cycles, double start_s = 0);
 

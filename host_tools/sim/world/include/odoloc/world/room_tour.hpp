@@ -18,6 +18,13 @@
 
 namespace odoloc::world {
 
+// Thamma's RF-triggered stations: every acoustics.beacons entry is one, in
+// firing order (the tour then has no Kleeman beacons and no base station).
+struct ThammaStations {
+  TriggeredTiming timing;
+  double first_trigger_s = 0.013;  // the first cycle's first trigger
+};
+
 struct RoomTour {
   std::string name;
   Scenario drive;  // the robot, its path (waits, laps) and the disturbances
@@ -26,6 +33,7 @@ struct RoomTour {
   // Its transmitter is acoustics.beacons[station->transmitter], after
   // Kleeman's (timing.beacon_count); it bursts in timing's reserved slot.
   std::optional<BaseStation> station;
+  std::optional<ThammaStations> thamma;
   double first_burst_s = 0.013;  // the beacons' first cycle, not at the chip's reset
   double duration_s = 0;         // the path's length in time, with the waits: the run ends here
 
@@ -33,7 +41,7 @@ struct RoomTour {
   // without a station).
   [[nodiscard]] StationPlan station_plan(const Trajectory& robot) const;
   // Every burst and RF strobe of the run: Kleeman's beacons', then the
-  // plan's.
+  // plan's, or Thamma's stations' triggers.
   [[nodiscard]] Schedule schedule(const StationPlan& plan) const;
 };
 
