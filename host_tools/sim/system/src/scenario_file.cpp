@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <numbers>
@@ -9,6 +11,7 @@
 #include <stdexcept>
 
 #include "odoloc/output/printable.hpp"
+#include "odoloc/sw/pose_ekf.hpp"
 
 namespace odoloc::sim {
 
@@ -56,10 +59,168 @@ double path_metres(const world::Path& path) {
   return metres;
 }
 
+// The whole file at `path`; nullopt when it cannot be read.
+std::optional<std::string> read_text(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  if (in)
+    text << in.rdbuf();
+  if (!in || in.bad())
+    return std::nullopt;
+  return std::move(text).str();
+}
+
+// A recorded trajectory (docs/scenarios.md, path.trajectory): the rear
+// midpoint's pose over time, one CSV row per sample.
+constexpr std::string_view kTrajectoryHeader = "time_s,x_m,y_m,heading_deg";
+constexpr std::array<std::string_view, 4> kTrajectoryColumns = {"time_s", "x_m", "y_m",
+                                                                "heading_deg"};
+// Bigger files would not be recordings: 64 MiB is a day of samples at 20 Hz.
+constexpr std::uintmax_t kMaxTrajectoryBytes = 64U << 20;
+// What the tricycle cannot do within a sample interval: drive faster than a
+// segment may (path.segments), or move sideways to its heading (its rear
+// wheels cannot slide) by more than this, which allows for the recording's
+// rounding.
+constexpr double kMaxTrajectorySpeedMps = 1.5;
+constexpr double kMaxSidewaysM = 1e-3;
+// path.start, when given, must be the first sample to within these.
+constexpr double kStartToleranceM = 1e-3;
+constexpr double kStartToleranceRad = 0.1 * kDeg;
+
+struct TrajectorySample {
+  double time_s = 0;
+  world::Pose pose;
+  std::size_t line = 0;  // in the CSV, for its errors
+};
+
+[[noreturn]] void fail_at(std::string_view csv, std::size_t line, std::string_view what) {
+  throw yaml::InputError(fmt::format("{}:{}: {}", csv, line, what));
+}
+
+// The samples of the CSV text `text`, named `csv` in its errors: the
+// header, then rows of four finite numbers with the time strictly
+// increasing. Blank lines are skipped.
+std::vector<TrajectorySample> read_trajectory_samples(std::string_view text, std::string_view csv) {
+  if (text.starts_with("\xEF\xBB\xBF"))  // a UTF-8 byte-order mark, as spreadsheets write
+    text.remove_prefix(3);
+  const std::vector<std::string_view> lines = yaml::split_fields(text, '\n');
+  std::vector<TrajectorySample> samples;
+  std::size_t header = 0;  // its line
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    const std::size_t line = i + 1;
+    if (lines[i].empty())
+      continue;
+    const std::vector<std::string_view> fields = yaml::split_fields(lines[i]);
+    if (header == 0) {
+      if (!std::ranges::equal(fields, kTrajectoryColumns))
+        fail_at(csv, line,
+                fmt::format("the header is '{}' (these columns, no others), not '{}'",
+                            kTrajectoryHeader, output::printable_excerpt(lines[i], 80)));
+      header = line;
+      continue;
+    }
+    if (fields.size() != kTrajectoryColumns.size())
+      fail_at(csv, line,
+              fmt::format("{} values; the header names {} ({})", fields.size(),
+                          kTrajectoryColumns.size(), kTrajectoryHeader));
+    std::array<double, 4> v{};
+    for (std::size_t c = 0; c < v.size(); ++c) {
+      const std::optional<double> value = yaml::finite_number(fields[c]);
+      if (!value)
+        fail_at(csv, line,
+                fmt::format("{} must be a finite number, not '{}'", kTrajectoryColumns[c],
+                            output::printable_excerpt(fields[c])));
+      v[c] = *value;
+    }
+    if (!samples.empty() && !(v[0] > samples.back().time_s))
+      fail_at(csv, line,
+              fmt::format("time_s {} is not after the previous sample's {} (line {})", v[0],
+                          samples.back().time_s, samples.back().line));
+    samples.push_back({v[0], {v[1], v[2], v[3] * kDeg}, line});
+  }
+  if (header == 0)
+    fail_at(
+        csv, 1,
+        fmt::format("an empty file: a trajectory starts with the header '{}'", kTrajectoryHeader));
+  if (samples.size() < 2)
+    fail_at(csv, samples.empty() ? header : samples.back().line,
+            fmt::format("{} sample{}: a trajectory needs two at least", samples.size(),
+                        samples.size() == 1 ? "" : "s"));
+  return samples;
+}
+
+// The tricycle's segments that drive the samples back, one per sample
+// interval: the arc through both poses (chord and heading change,
+// sw::fuse::arc_length), at ds/dt with the steering atan(L dtheta / ds).
+// Each interval must be one the tricycle can drive. A recording cannot
+// show how a standing robot steers: a standing interval steers toward the
+// motion that follows it (and holds the steering after the last one), so
+// a robot recorded standing before a turn starts it without a lag.
+world::Path trajectory_path(const std::vector<TrajectorySample>& samples,
+                            const world::Geometry& geometry, const std::optional<world::Room>& room,
+                            std::string_view csv) {
+  const auto fuse_pose = [](const world::Pose& p) {
+    sw::fuse::Pose out;
+    out.x = {p.x_m, p.y_m, p.theta_rad};
+    return out;
+  };
+  world::Path path;
+  double steer = 0;
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    const TrajectorySample& to = samples[k];
+    if (room && !(to.pose.x_m >= 0 && to.pose.x_m <= room->width_m && to.pose.y_m >= 0 &&
+                  to.pose.y_m <= room->depth_m))
+      fail_at(csv, to.line,
+              fmt::format("({}, {}) m is outside the {} x {} m room", to.pose.x_m, to.pose.y_m,
+                          room->width_m, room->depth_m));
+    if (k == 0)
+      continue;
+    const TrajectorySample& from = samples[k - 1];
+    const double dt = to.time_s - from.time_s;
+    // In the frame of `from`; the turn is the shorter way round.
+    const sw::fuse::Vector3 d =
+        sw::fuse::increment_between(fuse_pose(from.pose), fuse_pose(to.pose));
+    // An arc's chord lies along the heading halfway through the turn.
+    const double sideways = d.y() * std::cos(d.z() / 2) - d.x() * std::sin(d.z() / 2);
+    if (std::abs(sideways) > kMaxSidewaysM)
+      fail_at(csv, to.line,
+              fmt::format("{:.1f} mm sideways to the heading since line {}: a tricycle cannot "
+                          "slide ({:.0f} mm at most)",
+                          sideways * 1e3, from.line, kMaxSidewaysM * 1e3));
+    const double ds = sw::fuse::arc_length(d);
+    if (ds == 0 && d.z() != 0)
+      fail_at(csv, to.line,
+              fmt::format("turns {:.3f} degrees on the spot since line {}: a tricycle cannot",
+                          d.z() / kDeg, from.line));
+    const double speed = ds / dt;
+    if (std::abs(speed) > kMaxTrajectorySpeedMps)
+      fail_at(csv, to.line,
+              fmt::format("{:.3f} m/s since line {}: faster than {} m/s", speed, from.line,
+                          kMaxTrajectorySpeedMps));
+    if (ds != 0)
+      steer = std::atan(geometry.wheelbase_m * d.z() / ds);
+    if (std::abs(steer) > geometry.steering.limit_rad)
+      fail_at(csv, to.line,
+              fmt::format("the turn since line {} needs {:.2f} degrees of steering, beyond "
+                          "robot.steering.limit_deg {:.2f}",
+                          from.line, steer / kDeg, geometry.steering.limit_rad / kDeg));
+    path.segments.push_back(world::Segment::duration(speed, steer, dt));
+  }
+  std::optional<double> next;
+  for (auto s = path.segments.rbegin(); s != path.segments.rend(); ++s) {
+    if (s->speed_mps != 0)
+      next = s->steer_rad;
+    else if (next)
+      s->steer_rad = *next;
+  }
+  return path;
+}
+
 class ScenarioReader {
  public:
-  ScenarioReader(std::string_view file, const ScenarioOverrides& overrides)
-      : r_(file), overrides_(overrides) {}
+  ScenarioReader(std::string_view file, const ScenarioOverrides& overrides,
+                 std::optional<std::filesystem::path> directory)
+      : r_(file), overrides_(overrides), directory_(std::move(directory)) {}
 
   Scenario read(const std::string& text) {
     const Node root = r_.load(text);
@@ -407,13 +568,17 @@ class ScenarioReader {
   Laps read_path(const Node& node, world::RoomTour& tour) const {
     r_.check_keys(
         node, "path",
-        {"start", "wait_s", "laps", "lap_wait_s", "square", "segments", "steer_rate_degps"});
+        {"start", "wait_s", "laps", "lap_wait_s", "square", "segments", "trajectory",
+         "steer_rate_degps"});
     world::Scenario& drive = tour.drive;
-    const Node start = r_.required(node, "start", "path");
-    r_.check_keys(start, "path.start", {"x_m", "y_m", "heading_deg"});
-    drive.start = {r_.number(r_.required(start, "x_m", "path.start"), "path.start.x_m"),
-                   r_.number(r_.required(start, "y_m", "path.start"), "path.start.y_m"),
-                   r_.number_or(start, "heading_deg", "path.start", 0, -360, 360) * kDeg};
+    // A trajectory's first sample is its start.
+    const Node start = node["trajectory"] ? node["start"] : r_.required(node, "start", "path");
+    if (start) {
+      r_.check_keys(start, "path.start", {"x_m", "y_m", "heading_deg"});
+      drive.start = {r_.number(r_.required(start, "x_m", "path.start"), "path.start.x_m"),
+                     r_.number(r_.required(start, "y_m", "path.start"), "path.start.y_m"),
+                     r_.number_or(start, "heading_deg", "path.start", 0, -360, 360) * kDeg};
+    }
     const double wait_s = r_.number_or(node, "wait_s", "path", 0, 0, 3600);
     const double lap_wait_s = r_.number_or(node, "lap_wait_s", "path", 0, 0, 3600);
     std::size_t laps = node["laps"] ? r_.whole(node["laps"], "path.laps", 1, 100) : 0;
@@ -422,8 +587,10 @@ class ScenarioReader {
         r_.fail(node, "--laps: this scenario's path has no laps");
       laps = *overrides_.laps;
     }
-    if (node["square"] && node["segments"])
-      r_.fail(node, "path: a square or segments, not both");
+    if ((node["square"] ? 1 : 0) + (node["segments"] ? 1 : 0) + (node["trajectory"] ? 1 : 0) > 1)
+      r_.fail(node, "path: one of square, segments and trajectory");
+    if (overrides_.speed_mps && !node["square"])
+      r_.fail(node, "--speed: only a square path has one speed");
     world::Path lap;
     double lap_m = 0;
     if (const Node sq = node["square"]) {
@@ -440,9 +607,10 @@ class ScenarioReader {
       const double radius = drive.geometry.wheelbase_m / std::tan(steer);
       lap_m = 4 * (side - 2 * radius) + 2 * std::numbers::pi * radius;
     } else {
-      if (overrides_.speed_mps)
-        r_.fail(node, "--speed: only a square path has one speed");
-      read_segments(r_.required(node, "segments", "path"), lap);
+      if (const Node trajectory = node["trajectory"])
+        lap = read_trajectory(trajectory, start, tour);
+      else
+        read_segments(r_.required(node, "segments", "path"), lap);
       lap_m = path_metres(lap);
     }
     if (const Node rate = node["steer_rate_degps"])
@@ -462,6 +630,49 @@ class ScenarioReader {
                   [&] { return world::TricycleSimulator(drive.geometry, drive.path, {}, {}); });
     return {laps, lap_m};
   }
+  // path.trajectory: the CSV file's samples, read from the scenario's
+  // directory, set the start (or agree with path.start) and become the lap.
+  world::Path read_trajectory(const Node& node, const Node& start, world::RoomTour& tour) const {
+    r_.check_keys(node, "path.trajectory", {"file"});
+    const Node file = r_.required(node, "file", "path.trajectory");
+    const std::string name = r_.scalar(file, "path.trajectory.file");
+    if (!directory_)
+      r_.fail(file,
+              "path.trajectory.file: a trajectory file needs a scenario file on disk (this "
+              "scenario is a text without a directory: built in, or the fuzzer's)");
+    if (name.empty() || name.find('\0') != std::string::npos)
+      r_.fail(file, "path.trajectory.file: expected a file name");
+    // Only ever opened to be read; a name from the scenario is shown printable.
+    const std::filesystem::path path = *directory_ / name;
+    const std::string csv = output::printable_excerpt(path.string(), 200);
+    std::error_code ec;
+    const std::filesystem::file_status status = std::filesystem::status(path, ec);
+    if (!std::filesystem::exists(status))
+      r_.fail(file, fmt::format("path.trajectory.file: no such file '{}'", csv));
+    if (!std::filesystem::is_regular_file(status))  // a FIFO or a device could never end
+      r_.fail(file, fmt::format("path.trajectory.file: '{}' is not a regular file", csv));
+    if (std::filesystem::file_size(path, ec) > kMaxTrajectoryBytes)
+      r_.fail(file, fmt::format("path.trajectory.file: '{}' is over {} MiB", csv,
+                                kMaxTrajectoryBytes >> 20));
+    const std::optional<std::string> text = read_text(path);
+    if (!text)
+      r_.fail(file, fmt::format("path.trajectory.file: cannot read '{}'", csv));
+    const std::vector<TrajectorySample> samples = read_trajectory_samples(*text, csv);
+    const world::Pose first = samples.front().pose;
+    world::Pose& set_down = tour.drive.start;
+    if (start &&
+        (std::hypot(set_down.x_m - first.x_m, set_down.y_m - first.y_m) > kStartToleranceM ||
+         std::abs(sw::fuse::wrap_angle(set_down.theta_rad - first.theta_rad)) > kStartToleranceRad))
+      r_.fail(start, fmt::format("path.start ({:.6g}, {:.6g}) m, {:.6g} deg is not the "
+                                 "trajectory's first sample ({:.6g}, {:.6g}) m, {:.6g} deg "
+                                 "({}:{}) within 1 mm and 0.1 degree "
+                                 "(leave 'start' out to start there)",
+                                 set_down.x_m, set_down.y_m, set_down.theta_rad / kDeg, first.x_m,
+                                 first.y_m, first.theta_rad / kDeg, csv, samples.front().line));
+    set_down = first;
+    return trajectory_path(samples, tour.drive.geometry, tour.acoustics.room, csv);
+  }
+
   void read_segments(const Node& node, world::Path& path) const {
     r_.sequence(node, "path.segments");
     for (const Node& s : node) {
@@ -726,6 +937,8 @@ class ScenarioReader {
 
   yaml::Reader r_;
   ScenarioOverrides overrides_;
+  // Where the files a scenario names are read from; none for a text.
+  std::optional<std::filesystem::path> directory_;
 };
 
 }  // namespace
@@ -743,24 +956,22 @@ std::vector<world::Vec2> grid_points(const world::Room& room, const StandingGrid
 }
 
 Scenario parse_scenario(const std::string& text, std::string_view file,
-                        const ScenarioOverrides& overrides) {
+                        const ScenarioOverrides& overrides,
+                        const std::optional<std::filesystem::path>& directory) {
   if (overrides.laps && (*overrides.laps < 1 || *overrides.laps > 100))
     throw yaml::InputError("--laps must be 1 to 100");
   if (overrides.speed_mps && !(*overrides.speed_mps > 0 && *overrides.speed_mps <= 1.5))
     throw yaml::InputError("--speed must be in (0, 1.5] m/s");
-  return ScenarioReader(file, overrides).read(text);
+  return ScenarioReader(file, overrides, directory).read(text);
 }
 
 Scenario load_scenario(const std::filesystem::path& path, const ScenarioOverrides& overrides) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  if (in)
-    text << in.rdbuf();
-  if (!in || in.bad())
+  const std::optional<std::string> text = read_text(path);
+  if (!text)
     throw yaml::InputError(
         fmt::format("{}: cannot read the scenario", output::printable_excerpt(path.string(), 200)),
         false);
-  return parse_scenario(text.str(), path.string(), overrides);
+  return parse_scenario(*text, path.string(), overrides, path.parent_path());
 }
 
 const BuiltinScenario* find_builtin_scenario(std::string_view key) {

@@ -31,6 +31,30 @@ std::optional<std::uint64_t> whole_number(std::string_view text) {
   return value;
 }
 
+namespace {
+
+std::string_view trim(std::string_view s) {
+  const auto space = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
+  while (!s.empty() && space(s.front()))
+    s.remove_prefix(1);
+  while (!s.empty() && space(s.back()))
+    s.remove_suffix(1);
+  return s;
+}
+
+}  // namespace
+
+std::vector<std::string_view> split_fields(std::string_view text, char separator) {
+  std::vector<std::string_view> fields;
+  for (std::size_t start = 0;;) {
+    const std::size_t end = text.find(separator, start);
+    fields.push_back(trim(text.substr(start, end - start)));
+    if (end == std::string_view::npos)
+      return fields;
+    start = end + 1;
+  }
+}
+
 YAML::Node Reader::load(const std::string& text) const {
   try {
     return load_one_document(text);

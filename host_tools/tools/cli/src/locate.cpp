@@ -231,7 +231,7 @@ double parse_temperature(std::string_view text) {
 }
 
 std::vector<std::string> parse_triple(std::string_view text) {
-  const std::vector<std::string_view> fields = split_fields(text);
+  const std::vector<std::string_view> fields = yaml::split_fields(text);
   const std::vector<std::string> ids(fields.begin(), fields.end());
   const bool distinct = ids.size() == 3 && ids[0] != ids[1] && ids[0] != ids[2] &&
                         ids[1] != ids[2] &&

@@ -29,15 +29,6 @@ using sw::locate::RangeCandidate;
   throw UsageError(fmt::format("{}:{}: {}", name, line, what));
 }
 
-std::string_view trim(std::string_view s) {
-  const auto space = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
-  while (!s.empty() && space(s.front()))
-    s.remove_prefix(1);
-  while (!s.empty() && space(s.back()))
-    s.remove_suffix(1);
-  return s;
-}
-
 bool is_nan_text(std::string_view text) {
   return text.size() == 3 && std::tolower(static_cast<unsigned char>(text[0])) == 'n' &&
          std::tolower(static_cast<unsigned char>(text[1])) == 'a' &&
@@ -232,13 +223,13 @@ std::vector<ArrivalCycle> parse_arrivals(std::string_view csv, std::string_view 
   std::optional<ColumnIndex> index;
   std::size_t columns = 0;
   std::map<std::uint64_t, CycleRows> cycles;
-  const std::vector<std::string_view> lines = split_fields(csv, '\n');
+  const std::vector<std::string_view> lines = yaml::split_fields(csv, '\n');
   for (std::size_t i = 0; i < lines.size(); ++i) {
     const std::size_t line = i + 1;
     const std::string_view text = lines[i];
     if (text.empty() || text.starts_with('#'))
       continue;
-    const std::vector<std::string_view> fields = split_fields(text);
+    const std::vector<std::string_view> fields = yaml::split_fields(text);
     if (!index) {
       index = parse_header(fields, name, line);
       columns = fields.size();
@@ -341,17 +332,6 @@ std::string read_text(const std::string& path, std::string_view what) {
 }
 
 }  // namespace
-
-std::vector<std::string_view> split_fields(std::string_view text, char separator) {
-  std::vector<std::string_view> fields;
-  for (std::size_t start = 0;;) {
-    const std::size_t end = text.find(separator, start);
-    fields.push_back(trim(text.substr(start, end - start)));
-    if (end == std::string_view::npos)
-      return fields;
-    start = end + 1;
-  }
-}
 
 std::optional<int> LocateLayout::find(std::string_view id) const {
   const auto it = std::ranges::find(ids, id);

@@ -100,16 +100,21 @@ struct ScenarioOverrides {
   std::optional<double> speed_mps{};  // a square path's speed
 };
 
-// The scenario in `text`, named `file` in every error. Throws
-// yaml::InputError ("FILE:LINE: what") for YAML that is not a scenario: an
-// unknown or repeated key, a missing one, a value that is not a finite
-// number or is out of its range, a beacon or the start outside the room,
-// fewer than 3 beacons, neither beacons nor a station, a survey whose
-// beacons do not match, no survey.start without beacons, liu_filter
-// without a station, an override the path does not have.
+// The scenario in `text`, named `file` in every error. The files it names
+// (path.trajectory.file) are read from `directory`, the scenario file's own;
+// without one (a built-in text, the fuzzer's) naming a file is an error.
+// Throws yaml::InputError ("FILE:LINE: what") for YAML that is not a
+// scenario: an unknown or repeated key, a missing one, a value that is not
+// a finite number or is out of its range, a beacon or the start outside the
+// room, fewer than 3 beacons, neither beacons nor a station, a survey whose
+// beacons do not match, no survey.start without beacons, liu_filter without
+// a station, an override the path does not have; and ("CSV:LINE: what")
+// for a trajectory file the tricycle cannot drive.
 [[nodiscard]] Scenario parse_scenario(const std::string& text, std::string_view file,
-                                      const ScenarioOverrides& overrides = {});
-// The file at `path` (InputError also when it cannot be read).
+                                      const ScenarioOverrides& overrides = {},
+                                      const std::optional<std::filesystem::path>& directory = {});
+// The file at `path` (InputError also when it cannot be read); its
+// directory is the scenario's.
 [[nodiscard]] Scenario load_scenario(const std::filesystem::path& path,
                                      const ScenarioOverrides& overrides = {});
 // The scenario files of examples/scenarios/, built into the program

@@ -2,7 +2,9 @@
 // and the line (docs/host-tool.md, "Input files"): unknown and repeated
 // keys, missing values, numbers that are not finite, values out of range.
 // Used by the scenario files (docs/scenarios.md); the layouts and sweep
-// specs share its number rules (finite_number, whole_number).
+// specs share its number rules (finite_number, whole_number), and the CSV
+// files beside them (odoloc locate's arrivals, a scenario's recorded
+// trajectory) its field splitting (split_fields).
 #pragma once
 
 #include <yaml-cpp/yaml.h>
@@ -13,6 +15,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace odoloc::yaml {
 
@@ -22,6 +25,10 @@ namespace odoloc::yaml {
 [[nodiscard]] std::optional<double> finite_number(std::string_view text);
 // Decimal digits only, 0 .. 2^64 - 1: no sign, space, base prefix or fraction.
 [[nodiscard]] std::optional<std::uint64_t> whole_number(std::string_view text);
+// The fields of a CSV line (or a list like --triple's), trimmed of spaces,
+// tabs and CRs. No quoting: ids and numbers need none.
+[[nodiscard]] std::vector<std::string_view> split_fields(std::string_view text,
+                                                         char separator = ',');
 
 // "FILE:LINE: what" (or "FILE: what" where the node has no place).
 // usage(): the file's content is wrong (false: the file could not be read).

@@ -40,11 +40,6 @@ struct ArrivalCycle {
   sw::locate::RangeSet ranges;
 };
 
-// The fields of a CSV line (or a list like --triple's), trimmed of spaces,
-// tabs and CRs. No quoting: ids and numbers need none.
-[[nodiscard]] std::vector<std::string_view> split_fields(std::string_view text,
-                                                         char separator = ',');
-
 // `name` prefixes the messages (the file's path).
 [[nodiscard]] LocateLayout parse_layout(std::string_view yaml, std::string_view name);
 // Cycles in ascending order. Times are converted with the layout's speed of
