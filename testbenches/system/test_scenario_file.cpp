@@ -259,12 +259,63 @@ TEST(ScenarioFile, LawnMistakesNameTheFileAndTheLine) {
   // stationary room has no station for Liu's filter; the room tour has one.
   const std::string no_station =
       base.substr(0, base.find("station:\n  position")) + base.substr(base.find("robot:\n"));
-  EXPECT_NE(error_of(no_station).find("no 'beacons' and no 'station'"), std::string::npos)
+  EXPECT_NE(error_of(no_station).find("no 'beacons', 'station' or 'thamma'"), std::string::npos)
       << error_of(no_station);
   const std::string kleeman(odoloc::sim::find_builtin_scenario("kleeman-stationary.yaml")->text);
   EXPECT_NE(error_of(kleeman + "liu_filter: {}\n").find("Liu's filter needs the 'station'"),
             std::string::npos);
   EXPECT_EQ(error_of(room_tour_text() + "liu_filter: {}\n"), "");
+}
+
+std::string thamma_text() {
+  return std::string(odoloc::sim::find_builtin_scenario("thamma-room.yaml")->text);
+}
+
+// Thamma's room: four stations in firing order (two 40 kHz, two 32.5 kHz),
+// the head and tail boxes (eight receivers), no beacons and no base station.
+TEST(ScenarioFile, ThammasRoomHasItsStationsAndBoxes) {
+  const Scenario s = parse_scenario(thamma_text(), "thamma-room.yaml");
+  ASSERT_TRUE(s.tour.thamma.has_value());
+  EXPECT_EQ(s.tour.timing.beacon_count, 0U);
+  EXPECT_FALSE(s.tour.station.has_value());
+  ASSERT_EQ(s.tour.acoustics.beacons.size(), 4U);
+  EXPECT_EQ(s.tour.acoustics.beacons[0].carrier_hz, 40e3);
+  EXPECT_EQ(s.tour.acoustics.beacons[3].carrier_hz, 32.5e3);
+  EXPECT_EQ(s.tour.acoustics.receivers.size(), 8U);
+  EXPECT_EQ(s.tour.acoustics.receivers[4].resonance_hz, 32.5e3);  // the tail box
+  EXPECT_DOUBLE_EQ(s.tour.thamma->timing.cycle_s(4), 1.7);
+  ASSERT_TRUE(s.survey.thamma.has_value());
+  EXPECT_EQ(s.survey.thamma->stations.size(), 4U);
+  EXPECT_DOUBLE_EQ(s.survey.thamma->head.x_m, 0.6);
+}
+
+TEST(ScenarioFile, ThammaMistakesNameTheFileAndTheLine) {
+  const Mistake mistakes[] = {
+      {"  cycle_gap_s: 0.1\n", "  cycle_gap_s: 0.01\n", "cycle_gap_s must be at least half",
+       "  repeats: 4"},
+      {"    stations: [[0.05, 0.05], [9.95, 0.05], [0.05, 9.95], [9.95, 9.95]]",
+       "    stations: [[0.05, 0.05], [9.95, 0.05], [0.05, 9.95]]",
+       "survey.thamma.stations: 3 positions for 4 stations", "    stations: [[0.05"},
+      {"    boxes: {head: [0.6, 0], tail: [-0.2, 0]}",
+       "    boxes: {head: [0.6, 0], tail: [-0.2, 0]}\n    octagon: {side_m: 0.05}",
+       "one of octagon, list or boxes", "    boxes:"},
+      {"    - {position: [9.95, 9.95], axes_deg", "    - {position: [10.95, 9.95], axes_deg",
+       "station 3 at (10.95, 9.95) m is outside", "[10.95, 9.95]"},
+  };
+  const std::string base = thamma_text();
+  for (const Mistake& m : mistakes) {
+    const std::string text = edited(base, m.from, m.to);
+    const std::string error = error_of(text);
+    EXPECT_NE(error.find(m.message), std::string::npos) << m.message << "\ngot: " << error;
+    const std::string place = "my.yaml:" + std::to_string(line_of(text, m.at)) + ":";
+    EXPECT_TRUE(error.starts_with(place)) << place << "\ngot: " << error;
+  }
+  // Thamma's stations and Kleeman's beacons share neither the receivers
+  // nor the sync input.
+  std::string tour = room_tour_text();
+  const std::string thamma_section = base.substr(
+      base.find("thamma:\n  repeats"), base.find("robot:\n") - base.find("thamma:\n  repeats"));
+  EXPECT_NE(error_of(tour + thamma_section).find("Thamma's stations exclude"), std::string::npos);
 }
 
 // Random byte edits of the room tour: each parses or is an InputError,
