@@ -386,13 +386,16 @@ void run_sim(const SimCommand& command, std::ostream& out, bool json,
         system.tour().station ? " (Liu et al. report about 100 mm)" : "");
   if (const std::string returns = returns_line(report); !returns.empty())
     out << returns;
-  out << fmt::format(
-      "humps and slip: min-select odometry RMS {:.1f} mm beside rear-only {:.1f} mm and "
-      "front-only {:.1f} mm (Kurian et al.: the smaller increments drop the over-counts; they "
-      "give no figure)\n",
-      report.errors(sim::Source::kMinSelect).rms_position_m * 1e3,
-      report.errors(sim::Source::kRearOdometry).rms_position_m * 1e3,
-      report.errors(sim::Source::kFrontOdometry).rms_position_m * 1e3);
+  // Kurian's comparison where the drive has something for min-select to drop.
+  const world::Disturbances& disturbances = system.tour().drive.disturbances;
+  if (!disturbances.bumps.empty() || !disturbances.slips.empty())
+    out << fmt::format(
+        "humps and slip: min-select odometry RMS {:.1f} mm beside rear-only {:.1f} mm and "
+        "front-only {:.1f} mm (Kurian et al.: the smaller increments drop the over-counts; they "
+        "give no figure)\n",
+        report.errors(sim::Source::kMinSelect).rms_position_m * 1e3,
+        report.errors(sim::Source::kRearOdometry).rms_position_m * 1e3,
+        report.errors(sim::Source::kFrontOdometry).rms_position_m * 1e3);
   if (const sim::DistanceStudy* study = errors.distance_study()) {
     out << fmt::format(
                "\nThamma's poses against the distance from the stations ({} of {} cycles gave a "
