@@ -21,6 +21,9 @@ template <class... F>
 struct Overloaded : F... {
   using F::operator()...;
 };
+// Clang 14 (the fuzz preset) deduces no aggregate's template arguments.
+template <class... F>
+Overloaded(F...) -> Overloaded<F...>;
 
 Eigen::Matrix2d rotation(double theta) {
   const double c = std::cos(theta), s = std::sin(theta);

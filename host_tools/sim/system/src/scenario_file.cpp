@@ -259,6 +259,9 @@ class ScenarioReader {
       r_.fail(root, "scenario: no 'beacons', 'station' or 'thamma': nothing to localise with");
     if (root["stationary"] && !root["beacons"])
       r_.fail(root["stationary"], "stationary: Kleeman's experiment needs 'beacons'");
+    if (root["stationary"] && (overrides_.laps || overrides_.speed_mps))
+      r_.fail(root["stationary"], overrides_.laps ? "--laps: a stationary scenario has no path"
+                                                  : "--speed: a stationary scenario has no path");
     if (root["path"] && root["stationary"])
       r_.fail(root["stationary"], "scenario: a path or stationary points, not both");
     Laps laps;
@@ -566,10 +569,9 @@ class ScenarioReader {
     double metres = 0;
   };
   Laps read_path(const Node& node, world::RoomTour& tour) const {
-    r_.check_keys(
-        node, "path",
-        {"start", "wait_s", "laps", "lap_wait_s", "square", "segments", "trajectory",
-         "steer_rate_degps"});
+    r_.check_keys(node, "path",
+                  {"start", "wait_s", "laps", "lap_wait_s", "square", "segments", "trajectory",
+                   "steer_rate_degps"});
     world::Scenario& drive = tour.drive;
     // A trajectory's first sample is its start.
     const Node start = node["trajectory"] ? node["start"] : r_.required(node, "start", "path");

@@ -49,6 +49,29 @@ double residual_rms_m(const sw::locate::Fix& fix) {
   return n == 0 ? 0.0 : std::sqrt(sum / n);
 }
 
+// One fix of the robot origin as the outputs record it: a beacon cycle's
+// (locked cycles only) or a Thamma cycle's pose (both boxes' ranges).
+struct FixRecord {
+  double time_s;  // robot clock
+  sw::locate::Fix fix;
+  sw::fuse::Outcome fused;
+};
+std::vector<FixRecord> fixes_of(const sw::LocaliserStep& step) {
+  std::vector<FixRecord> out;
+  for (const sw::CycleResult& c : step.cycles)
+    if (c.measurement.locked())
+      out.push_back({c.time_s, c.fix, c.fused});
+  for (const sw::ThammaResult& t : step.thamma) {
+    sw::locate::Fix f = t.pose.head;
+    f.valid = t.pose.valid;
+    f.position_m = t.pose.position_m;
+    f.covariance_m2 = t.pose.covariance.topLeftCorner<2, 2>();
+    f.beacons.insert(f.beacons.end(), t.pose.tail.beacons.begin(), t.pose.tail.beacons.end());
+    out.push_back({t.time_s, std::move(f), t.head});
+  }
+  return out;
+}
+
 }  // namespace
 
 std::optional<board::PosePoint> reference_at(const board::RunResult& run, double time_s) {
@@ -183,16 +206,14 @@ void CsvSink::frame(const Frame& frame, LocalisationSystem& system) {
       "{:.4f},{},{},{},{},{},{:d}\n", frame.time_s, pose(frame.truth),
       pose(odometry_pose(frame.soc)), pose(reference(rtl::MinSelectPolicy::kRearOnly)),
       pose(reference(rtl::MinSelectPolicy::kFrontOnly)), fused, e.odometry_only);
-  for (const sw::CycleResult& c : frame.soc.cycles) {
-    if (!c.measurement.locked())
-      continue;
-    const double t = system.to_sim_time(c.time_s);
+  for (const FixRecord& r : fixes_of(frame.soc)) {
+    const double t = system.to_sim_time(r.time_s);
     const world::Pose truth = system.truth_at(t);
-    const Eigen::Matrix2d& p = c.fix.covariance_m2;
+    const Eigen::Matrix2d& p = r.fix.covariance_m2;
     fixes_ << fmt::format("{:.4f},{:d},{:.6f},{:.6f},{:.4g},{:.4g},{:.4g},{},{},{:.6f},{:.6f},{}\n",
-                          t, c.fix.valid, c.fix.position_m.x, c.fix.position_m.y, p(0, 0), p(0, 1),
-                          p(1, 1), c.fix.used(), sw::locate::name(c.fix.solver), truth.x_m,
-                          truth.y_m, sw::fuse::name(c.fused));
+                          t, r.fix.valid, r.fix.position_m.x, r.fix.position_m.y, p(0, 0), p(0, 1),
+                          p(1, 1), r.fix.used(), sw::locate::name(r.fix.solver), truth.x_m,
+                          truth.y_m, sw::fuse::name(r.fused));
   }
 }
 
@@ -301,19 +322,17 @@ void LcmSink::frame(const Frame& frame, LocalisationSystem& system) {
   odometry.theta = o.theta_rad;
   publish(channel::kOdometry, odometry);
 
-  for (const sw::CycleResult& c : frame.soc.cycles) {
-    if (!c.measurement.locked())
-      continue;
+  for (const FixRecord& r : fixes_of(frame.soc)) {
     odoloc_lcm::beacon_fix_t fix{};
-    fix.utime = utime(system.to_sim_time(c.time_s));
-    fix.solver = std::string(sw::locate::name(c.fix.solver));
-    fix.x = c.fix.position_m.x;
-    fix.y = c.fix.position_m.y;
+    fix.utime = utime(system.to_sim_time(r.time_s));
+    fix.solver = std::string(sw::locate::name(r.fix.solver));
+    fix.x = r.fix.position_m.x;
+    fix.y = r.fix.position_m.y;
     for (int k = 0; k < 4; ++k)
-      fix.covariance[k] = c.fix.covariance_m2(k / 2, k % 2);
-    fix.beacons_used = static_cast<std::int16_t>(c.fix.used());
-    fix.residual_rms = residual_rms_m(c.fix);
-    fix.valid = c.fix.valid;
+      fix.covariance[k] = r.fix.covariance_m2(k / 2, k % 2);
+    fix.beacons_used = static_cast<std::int16_t>(r.fix.used());
+    fix.residual_rms = residual_rms_m(r.fix);
+    fix.valid = r.fix.valid;
     publish(channel::kFix, fix);
   }
   for (const sw::StationUpdate& u : frame.soc.station) {

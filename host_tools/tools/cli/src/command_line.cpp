@@ -203,6 +203,15 @@ double real_option(const std::string& text, std::string_view option) {
   return *value;
 }
 
+// A count option's value; its errors name the option ("--laps: bad count '0': ...").
+std::uint64_t count_option(const std::string& text, std::string_view option) {
+  try {
+    return parse_count(text);
+  } catch (const UsageError& e) {
+    throw UsageError(fmt::format("{}: {}", option, e.what()));
+  }
+}
+
 // ---- reg list, read, write, dump, watch ----------------------------------------------
 struct FilterOptions {
   std::string filter;
@@ -265,7 +274,7 @@ void add_reg(CLI::App& app, std::vector<Registered>& out) {
       [](const WatchOptions& o, Globals&) -> Command {
         WatchCommand w{resolve_all(o.names), parse_interval(o.interval), 0};
         if (!o.count.empty())
-          w.count = parse_count(o.count);
+          w.count = count_option(o.count, "--count");
         return w;
       }));
 }
@@ -502,9 +511,9 @@ Registered add_sim(CLI::App& app) {
         command.cycle_step = std::exchange(globals.inv.cycle_step, false);
         globals.refuse_board_options("sim", "simulates its own board");
         if (!o.laps.empty())
-          command.laps = parse_count(o.laps);
+          command.laps = count_option(o.laps, "--laps");
         if (!o.seed.empty())
-          command.seed = parse_count(o.seed);
+          command.seed = count_option(o.seed, "--seed");
         if (!o.speed.empty())
           command.speed_mps = real_option(o.speed, "--speed");
         if (!o.duration.empty())
@@ -541,7 +550,7 @@ Registered add_watch_pose(CLI::App& app) {
         WatchPoseCommand command = o.command;
         command.source = parse_pose_source(o.command.source);
         if (!o.count.empty())
-          command.count = parse_count(o.count);
+          command.count = count_option(o.count, "--count");
         return command;
       });
 }

@@ -61,7 +61,7 @@ nlohmann::json table_json(const sim::ErrorReport& report) {
 
 // With two or more stops back at the start (path.lap_wait_s): each filter's
 // error at every stop, RMS and worst, Liu et al.'s way ("" otherwise).
-std::string returns_line(const sim::ErrorReport& report) {
+std::string returns_line(const sim::ErrorReport& report, bool liu_station) {
   std::vector<std::string> parts;
   std::size_t count = 0;
   for (const sim::Source s : {sim::Source::kLiuFilter, sim::Source::kFused}) {
@@ -79,9 +79,9 @@ std::string returns_line(const sim::ErrorReport& report) {
   if (parts.empty())
     return "";
   return fmt::format(
-      "returns to the start ({} stops; the estimate against where the robot stopped): {} "
-      "(Liu et al.: 20 returns within about 100 mm)\n",
-      count, fmt::join(parts, "; "));
+      "returns to the start ({} stops; the estimate against where the robot stopped): {}{}\n",
+      count, fmt::join(parts, "; "),
+      liu_station ? " (Liu et al.: 20 returns within about 100 mm)" : "");
 }
 
 nlohmann::json updates_json(const sw::fuse::PoseEkf& filter) {
@@ -384,7 +384,8 @@ void run_sim(const SimCommand& command, std::ostream& out, bool json,
         "the start{}\n",
         fused.return_to_start_m * 1e3,
         system.tour().station ? " (Liu et al. report about 100 mm)" : "");
-  if (const std::string returns = returns_line(report); !returns.empty())
+  if (const std::string returns = returns_line(report, system.tour().station.has_value());
+      !returns.empty())
     out << returns;
   // Kurian's comparison where the drive has something for min-select to drop.
   const world::Disturbances& disturbances = system.tour().drive.disturbances;
