@@ -22,10 +22,20 @@ using odoloc::tb::require;
 void check_accepted(const odoloc::sim::Scenario& s, const std::string& input) {
   const odoloc::world::RoomTour& t = s.tour;
   const std::size_t n = t.timing.beacon_count;
-  require(n >= 3 && n <= 16, "a beacon count outside 3..16", input);
+  // Kleeman's 3 to 16 beacons, or none with Liu's station or Thamma's stations.
+  require((n >= 3 && n <= 16) || (n == 0 && (t.station || t.thamma)),
+          "a beacon count outside 3..16 without another system", input);
   require(s.survey.beacons.size() == n, "a survey without one position per beacon", input);
-  require(t.acoustics.beacons.size() == n + (t.station ? 1 : 0), "beacons besides the station's",
-          input);
+  if (t.thamma) {
+    require(n == 0 && !t.station, "Thamma's stations beside beacons or a station", input);
+    require(t.acoustics.beacons.size() >= 2 && t.acoustics.beacons.size() <= 16 &&
+                s.survey.thamma && s.survey.thamma->stations.size() == t.acoustics.beacons.size(),
+            "Thamma's stations not 2..16 or not surveyed one by one", input);
+  } else {
+    require(t.acoustics.beacons.size() == n + (t.station ? 1 : 0), "beacons besides the station's",
+            input);
+  }
+  require(n > 0 || t.thamma || s.survey.start, "no beacons and no start mark", input);
   require(!t.station || t.station->transmitter == n, "the station's transmitter misplaced", input);
   require(!t.acoustics.receivers.empty() && t.acoustics.receivers.size() <= 8,
           "a receiver count outside 1..8", input);
